@@ -41,7 +41,8 @@ DynamicDistanceMap::DynamicDistanceMap(double resolution, double maxDistance)
 		throw std::invalid_argument(
 			"DynamicDistanceMap: maxDistance must be in (0, 4096 cells], got " + std::to_string(maxDistance) + " m");
 	const double r = maxDistance / resolution;
-	m_maxSq = static_cast<int>(std::floor(r * r + 1e-9));
+	// Relative slack: a float resolution (0.05f) must not turn 10 cells into 9.99999.
+	m_maxSq = static_cast<int>(std::floor(r * r * (1.0 + 1e-6)));
 	m_sqrtLut.resize(m_maxSq + 1);
 	for (int i = 0; i <= m_maxSq; ++i)
 		m_sqrtLut[i] = static_cast<float>(std::min(std::sqrt(double(i)) * resolution, maxDistance));

@@ -1,0 +1,133 @@
+/* pmslam — the Perfect Match scan matcher as an MRPT alignment algorithm.
+ *
+ * Aligns a point cloud (a laser scan in the robot frame) to an occupancy grid
+ * by maximising the Perfect Match likelihood field of Pedrosa, Lau and Reis:
+ * an endpoint at distance Δ from the nearest obstacle has likelihood
+ * p = σ²/(σ²+Δ²), so the pose minimises Σ ln(σ²+Δ²). Δ is read from a
+ * truncated Euclidean distance map by bilinear interpolation, its gradient from
+ * the same 4 samples, chained through each endpoint's pose Jacobian.
+ *
+ * Drop-in for mrpt::slam::CICP: AlignPDF(m1 = grid, m2 = points, initial).
+ *  - m1 an OccupancyDistanceGridMap: its live distance layer is used directly.
+ *  - m1 a stock COccupancyGridMap2D: a distance layer is built on demand and
+ *    cached until the grid's contents change.
+ * The result is a CPosePDFGaussian (pose of m2's frame in m1's frame) whose
+ * covariance is the inverse curvature of the cost at the optimum.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/math/TPoint2D.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/slam/CMetricMapsAlignmentAlgorithm.h>
+#include <pmslam/DynamicDistanceMap.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pmslam
+{
+class PerfectMatchAligner : public mrpt::slam::CMetricMapsAlignmentAlgorithm
+{
+   public:
+	enum class Optimizer
+	{
+		RPROP,	///< resilient back-propagation on the log-likelihood (the paper's choice)
+		GaussNewton,  ///< iteratively reweighted least squares on Δ
+		LevenbergMarquardt	///< as GaussNewton, damped
+	};
+	/** Weighting of the residuals Δ for GaussNewton / LevenbergMarquardt.
+	 * PerfectMatch weights 1/(σ²+Δ²) minimise exactly the PM cost; None is plain
+	 * least squares on Δ; Huber is quadratic below σ, linear beyond. RPROP always
+	 * uses the PM cost. */
+	enum class RobustKernel
+	{
+		PerfectMatch,
+		None,
+		Huber
+	};
+
+	/** Options; INI section [PerfectMatch] by convention. */
+	struct TConfigParams : public mrpt::config::CLoadableOptions
+	{
+		Optimizer optimizer = Optimizer::RPROP;
+		RobustKernel robustKernel = RobustKernel::PerfectMatch;
+		double sigma = 0.05;  ///< σ of the likelihood field (m)
+		unsigned maxIterations = 40;  ///< optimiser iterations at most
+		double rpropInitialStepXY = 0.01;  ///< first RPROP step in x, y (m)
+		double rpropInitialStepPhi = 0.01;	///< first RPROP step in θ (rad)
+		double rpropIncrease = 1.2, rpropDecrease = 0.5;  ///< RPROP step factors η+, η−
+		double rpropMaxStepXY = 0.2, rpropMaxStepPhi = 0.1;	 ///< RPROP step bounds (m, rad)
+		double minStepXY = 1e-5, minStepPhi = 1e-5;	 ///< converged when every step is below these
+		unsigned decimation = 1;  ///< use every k-th point of m2
+		/** For a stock COccupancyGridMap2D: truncation (m) of the distance layer
+		 * built on demand, and the occupancy probability above which a cell is an obstacle. */
+		double maxDistance = 0.5;
+		double occupiedThreshold = 0.5;
+
+		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+		void dumpToTextStream(std::ostream& out) const override;
+	};
+
+	/** What AlignPDF reports, like CICP::TReturnInfo. */
+	struct TReturnInfo : public mrpt::slam::TMetricMapAlignmentResult
+	{
+		unsigned nIterations = 0;
+		std::size_t nPoints = 0;	///< points used
+		double finalCost = 0;  ///< mean over points of ln(1 + Δ²/σ²) at the result (0 = perfect)
+		double inlierFraction = 0;	///< points closer to an obstacle than the truncation distance
+		double goodness = 0;  ///< mean likelihood σ²/(σ²+Δ²), in [0,1]
+		Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();	///< curvature of Σ ln(σ²+Δ²) at the result
+	};
+
+	PerfectMatchAligner() = default;
+	explicit PerfectMatchAligner(const TConfigParams& p) : options(p) {}
+
+	TConfigParams options;
+
+	mrpt::poses::CPosePDF::Ptr AlignPDF(const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
+										const mrpt::poses::CPosePDFGaussian& initialEstimationPDF,
+										mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo =
+											std::nullopt) override;
+	/** Not supported: Perfect Match is a planar matcher. Throws std::logic_error. */
+	mrpt::poses::CPose3DPDF::Ptr Align3DPDF(const mrpt::maps::CMetricMap* m1, const mrpt::maps::CMetricMap* m2,
+											const mrpt::poses::CPose3DPDFGaussian& initialEstimationPDF,
+											mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo =
+												std::nullopt) override;
+
+	/** The core, without MRPT map types: aligns `points` (robot frame) to `map`
+	 * starting at `initial`. Returns the pose; fills info and covariance if given. */
+	mrpt::math::TPose2D alignPoints(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
+									const mrpt::math::TPose2D& initial, TReturnInfo* info = nullptr,
+									Eigen::Matrix3d* covariance = nullptr) const;
+
+	/** The PM cost Σ ln(1+Δ²/σ²) of `points` at `pose` (for tests and diagnostics). */
+	double cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
+				const mrpt::math::TPose2D& pose) const;
+
+	/** Builds a distance layer from a stock MRPT grid (cells with occupancy above threshold are obstacles). */
+	static DynamicDistanceMap distanceMapFromGrid(const mrpt::maps::COccupancyGridMap2D& grid, double maxDistance,
+												  double occupiedThreshold);
+
+   private:
+	// Cache of the distance layer built for a stock grid.
+	struct GridCache
+	{
+		const void* grid = nullptr;
+		uint64_t contentHash = 0;
+		double maxDistance = 0, threshold = 0;
+		std::unique_ptr<DynamicDistanceMap> map;
+	};
+	GridCache m_cache;
+	const DynamicDistanceMap& distanceLayerFor(const mrpt::maps::COccupancyGridMap2D& grid);
+};
+
+std::string toString(PerfectMatchAligner::Optimizer o);
+std::string toString(PerfectMatchAligner::RobustKernel k);
+
+}  // namespace pmslam

@@ -1,0 +1,420 @@
+/* pmslam — Perfect Match aligner (see PerfectMatchAligner.h). */
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CPointsMap.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/system/CTicTac.h>
+#include <pmslam/OccupancyDistanceGridMap.h>
+#include <pmslam/PerfectMatchAligner.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace pmslam
+{
+std::string toString(PerfectMatchAligner::Optimizer o)
+{
+	switch (o)
+	{
+		case PerfectMatchAligner::Optimizer::RPROP: return "RPROP";
+		case PerfectMatchAligner::Optimizer::GaussNewton: return "GaussNewton";
+		case PerfectMatchAligner::Optimizer::LevenbergMarquardt: return "LevenbergMarquardt";
+	}
+	return "?";
+}
+
+std::string toString(PerfectMatchAligner::RobustKernel k)
+{
+	switch (k)
+	{
+		case PerfectMatchAligner::RobustKernel::PerfectMatch: return "PerfectMatch";
+		case PerfectMatchAligner::RobustKernel::None: return "None";
+		case PerfectMatchAligner::RobustKernel::Huber: return "Huber";
+	}
+	return "?";
+}
+
+namespace
+{
+template <typename E>
+E parseEnum(const std::string& key, const std::string& value, std::initializer_list<E> all)
+{
+	std::string known;
+	for (E e : all)
+	{
+		if (toString(e) == value) return e;
+		known += (known.empty() ? "" : ", ") + toString(e);
+	}
+	throw std::invalid_argument("[PerfectMatch] " + key + " = '" + value + "': expected one of " + known);
+}
+
+void requireRange(const char* key, double v, double lo, double hi)
+{
+	if (!(v >= lo && v <= hi))
+		throw std::invalid_argument(std::string("[PerfectMatch] ") + key + " = " + std::to_string(v) +
+									": expected a value in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+}  // namespace
+
+void PerfectMatchAligner::TConfigParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+															 const std::string& s)
+{
+	optimizer = parseEnum(
+		"optimizer", c.read_string(s, "optimizer", toString(optimizer)),
+		{Optimizer::RPROP, Optimizer::GaussNewton, Optimizer::LevenbergMarquardt});
+	robustKernel = parseEnum("robustKernel", c.read_string(s, "robustKernel", toString(robustKernel)),
+							 {RobustKernel::PerfectMatch, RobustKernel::None, RobustKernel::Huber});
+	sigma = c.read_double(s, "sigma", sigma);
+	maxIterations = static_cast<unsigned>(c.read_int(s, "maxIterations", static_cast<int>(maxIterations)));
+	rpropInitialStepXY = c.read_double(s, "rpropInitialStepXY", rpropInitialStepXY);
+	rpropInitialStepPhi = c.read_double(s, "rpropInitialStepPhi", rpropInitialStepPhi);
+	rpropIncrease = c.read_double(s, "rpropIncrease", rpropIncrease);
+	rpropDecrease = c.read_double(s, "rpropDecrease", rpropDecrease);
+	rpropMaxStepXY = c.read_double(s, "rpropMaxStepXY", rpropMaxStepXY);
+	rpropMaxStepPhi = c.read_double(s, "rpropMaxStepPhi", rpropMaxStepPhi);
+	minStepXY = c.read_double(s, "minStepXY", minStepXY);
+	minStepPhi = c.read_double(s, "minStepPhi", minStepPhi);
+	decimation = static_cast<unsigned>(c.read_int(s, "decimation", static_cast<int>(decimation)));
+	maxDistance = c.read_double(s, "maxDistance", maxDistance);
+	occupiedThreshold = c.read_double(s, "occupiedThreshold", occupiedThreshold);
+
+	requireRange("sigma", sigma, 1e-4, 10);
+	requireRange("maxIterations", maxIterations, 1, 10000);
+	requireRange("rpropInitialStepXY", rpropInitialStepXY, 1e-6, 10);
+	requireRange("rpropInitialStepPhi", rpropInitialStepPhi, 1e-6, 3);
+	requireRange("rpropIncrease", rpropIncrease, 1.0, 10);
+	requireRange("rpropDecrease", rpropDecrease, 0.01, 1.0);
+	requireRange("rpropMaxStepXY", rpropMaxStepXY, 1e-6, 10);
+	requireRange("rpropMaxStepPhi", rpropMaxStepPhi, 1e-6, 3);
+	requireRange("minStepXY", minStepXY, 0, 1);
+	requireRange("minStepPhi", minStepPhi, 0, 1);
+	requireRange("decimation", decimation, 1, 1000);
+	requireRange("maxDistance", maxDistance, 1e-3, 100);
+	requireRange("occupiedThreshold", occupiedThreshold, 0.01, 0.99);
+}
+
+void PerfectMatchAligner::TConfigParams::dumpToTextStream(std::ostream& out) const
+{
+	out << "optimizer = " << toString(optimizer) << "\nrobustKernel = " << toString(robustKernel)
+		<< "\nsigma = " << sigma << "\nmaxIterations = " << maxIterations
+		<< "\nrpropInitialStepXY = " << rpropInitialStepXY << "\nrpropInitialStepPhi = " << rpropInitialStepPhi
+		<< "\nrpropIncrease = " << rpropIncrease << "\nrpropDecrease = " << rpropDecrease
+		<< "\nrpropMaxStepXY = " << rpropMaxStepXY << "\nrpropMaxStepPhi = " << rpropMaxStepPhi
+		<< "\nminStepXY = " << minStepXY << "\nminStepPhi = " << minStepPhi << "\ndecimation = " << decimation
+		<< "\nmaxDistance = " << maxDistance << "\noccupiedThreshold = " << occupiedThreshold << "\n";
+}
+
+namespace
+{
+/** Everything the optimisers need from one pass over the points. */
+struct Evaluation
+{
+	double cost = 0;  // Σ ln(1 + Δ²/σ²)
+	double kernelCost = 0;	// cost of the GN/LM kernel
+	Eigen::Vector3d gradient = Eigen::Vector3d::Zero();	 // of cost
+	Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();	// Gauss-Newton curvature of cost
+	Eigen::Matrix3d JtWJ = Eigen::Matrix3d::Zero();
+	Eigen::Vector3d JtWr = Eigen::Vector3d::Zero();
+	std::size_t n = 0, inliers = 0;
+	double likelihoodSum = 0;
+};
+
+class CostFunction
+{
+   public:
+	CostFunction(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& pts,
+				 const PerfectMatchAligner::TConfigParams& o)
+		: m_map(map), m_pts(pts), m_step(std::max(1u, o.decimation)), m_s2(o.sigma * o.sigma), m_sigma(o.sigma),
+		  m_kernel(o.robustKernel), m_far(map.maxDistance() * (1.0 - 1e-6))
+	{
+	}
+
+	Evaluation operator()(const Eigen::Vector3d& x, bool wantNormalEquations) const
+	{
+		Evaluation e;
+		const double c = std::cos(x[2]), s = std::sin(x[2]);
+		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
+		{
+			const double px = m_pts[i].x, py = m_pts[i].y;
+			const double qx = x[0] + c * px - s * py, qy = x[1] + s * px + c * py;
+			double gx, gy;
+			const double d = m_map.distanceAt(qx, qy, &gx, &gy);
+			const double denom = m_s2 + d * d;
+			e.cost += std::log1p(d * d / m_s2);
+			e.likelihoodSum += m_s2 / denom;
+			++e.n;
+			if (d < m_far) ++e.inliers;
+			// dΔ/d(x, y, θ): the map gradient chained through the endpoint's pose Jacobian.
+			const Eigen::Vector3d J(gx, gy, gx * (-s * px - c * py) + gy * (c * px - s * py));
+			e.gradient += (2.0 * d / denom) * J;
+			const Eigen::Matrix3d JJ = J * J.transpose();
+			e.hessian += (2.0 / denom) * JJ;
+			if (wantNormalEquations)
+			{
+				double w = 1.0;
+				switch (m_kernel)
+				{
+					case PerfectMatchAligner::RobustKernel::PerfectMatch:
+						w = m_s2 / denom;
+						e.kernelCost += std::log1p(d * d / m_s2);
+						break;
+					case PerfectMatchAligner::RobustKernel::None:
+						e.kernelCost += d * d / m_s2;
+						break;
+					case PerfectMatchAligner::RobustKernel::Huber:
+						w = d <= m_sigma ? 1.0 : m_sigma / d;
+						e.kernelCost += d <= m_sigma ? d * d / m_s2 : 2.0 * d / m_sigma - 1.0;
+						break;
+				}
+				e.JtWJ += w * JJ;
+				e.JtWr += w * d * J;
+			}
+		}
+		return e;
+	}
+
+   private:
+	const DynamicDistanceMap& m_map;
+	const std::vector<mrpt::math::TPoint2Df>& m_pts;
+	const std::size_t m_step;
+	const double m_s2, m_sigma;
+	const PerfectMatchAligner::RobustKernel m_kernel;
+	const double m_far;
+};
+
+int sign(double v) { return (v > 0) - (v < 0); }
+
+}  // namespace
+
+double PerfectMatchAligner::cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
+								 const mrpt::math::TPose2D& pose) const
+{
+	TConfigParams o = options;
+	o.decimation = 1;
+	return CostFunction(map, points, o)(Eigen::Vector3d(pose.x, pose.y, pose.phi), false).cost;
+}
+
+mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& map,
+													 const std::vector<mrpt::math::TPoint2Df>& points,
+													 const mrpt::math::TPose2D& initial, TReturnInfo* info,
+													 Eigen::Matrix3d* covariance) const
+{
+	const CostFunction f(map, points, options);
+	Eigen::Vector3d x(initial.x, initial.y, initial.phi);
+	Evaluation cur = f(x, options.optimizer != Optimizer::RPROP);
+	Eigen::Vector3d best = x;
+	double bestCost = cur.cost;
+	unsigned it = 0;
+
+	if (options.optimizer == Optimizer::RPROP)
+	{
+		// iRprop−: each parameter has its own step that grows while the gradient
+		// keeps its sign and shrinks when it flips; only the sign of the gradient
+		// is used, which makes it insensitive to the scale of the cost.
+		Eigen::Vector3d step(options.rpropInitialStepXY, options.rpropInitialStepXY, options.rpropInitialStepPhi);
+		const Eigen::Vector3d maxStep(options.rpropMaxStepXY, options.rpropMaxStepXY, options.rpropMaxStepPhi);
+		const Eigen::Vector3d minStep(options.minStepXY, options.minStepXY, options.minStepPhi);
+		Eigen::Vector3d prevGrad = Eigen::Vector3d::Zero();
+		for (it = 0; it < options.maxIterations; ++it)
+		{
+			Eigen::Vector3d g = cur.gradient;
+			for (int k = 0; k < 3; ++k)
+			{
+				const double agree = g[k] * prevGrad[k];
+				if (agree > 0)
+					step[k] = std::min(step[k] * options.rpropIncrease, maxStep[k]);
+				else if (agree < 0)
+				{
+					step[k] = step[k] * options.rpropDecrease;
+					g[k] = 0;  // skip the update after a sign change
+				}
+				x[k] -= sign(g[k]) * step[k];
+			}
+			prevGrad = g;
+			cur = f(x, false);
+			if (cur.cost < bestCost)
+			{
+				bestCost = cur.cost;
+				best = x;
+			}
+			if ((step.array() < minStep.array()).all()) break;
+		}
+	}
+	else
+	{
+		double lambda = options.optimizer == Optimizer::LevenbergMarquardt ? 1e-3 : 0.0;
+		for (it = 0; it < options.maxIterations; ++it)
+		{
+			Eigen::Matrix3d A = cur.JtWJ;
+			if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
+			A.diagonal().array() += 1e-9;
+			const Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
+			if (!dx.allFinite()) break;
+			const Eigen::Vector3d xn = x + dx;
+			Evaluation next = f(xn, true);
+			if (options.optimizer == Optimizer::LevenbergMarquardt)
+			{
+				if (next.kernelCost > cur.kernelCost)
+				{
+					lambda *= 10;
+					if (lambda > 1e8) break;
+					continue;
+				}
+				lambda = std::max(1e-7, lambda / 10);
+			}
+			x = xn;
+			cur = next;
+			if (cur.cost < bestCost)
+			{
+				bestCost = cur.cost;
+				best = x;
+			}
+			if (std::abs(dx[0]) < options.minStepXY && std::abs(dx[1]) < options.minStepXY &&
+				std::abs(dx[2]) < options.minStepPhi)
+			{
+				++it;
+				break;
+			}
+		}
+		// GN/LM minimise the kernel's cost; report where they ended, not the PM-cost best.
+		best = x;
+	}
+
+	const Evaluation fin = f(best, false);
+	if (info)
+	{
+		info->nIterations = it;
+		info->nPoints = fin.n;
+		info->finalCost = fin.n ? fin.cost / fin.n : 0.0;
+		info->inlierFraction = fin.n ? double(fin.inliers) / fin.n : 0.0;
+		info->goodness = fin.n ? fin.likelihoodSum / fin.n : 0.0;
+		info->hessian = fin.hessian;
+	}
+	if (covariance)
+	{
+		// Inverse curvature; a tiny ridge keeps a degenerate direction (a corridor)
+		// finite but very uncertain instead of singular.
+		Eigen::Matrix3d H = fin.hessian;
+		H.diagonal().array() += 1e-6;
+		*covariance = H.inverse();
+	}
+	return mrpt::math::TPose2D(best[0], best[1], mrpt::math::wrapToPi(best[2]));
+}
+
+DynamicDistanceMap PerfectMatchAligner::distanceMapFromGrid(const mrpt::maps::COccupancyGridMap2D& grid,
+															 double maxDistance, double occupiedThreshold)
+{
+	const double r = grid.getResolution();
+	DynamicDistanceMap dm(r, maxDistance);
+	const int offX = static_cast<int>(std::lround(grid.getXMin() / r));
+	const int offY = static_cast<int>(std::lround(grid.getYMin() / r));
+	// MRPT cells hold the probability of being free.
+	const float freeBelow = static_cast<float>(1.0 - occupiedThreshold);
+	for (unsigned iy = 0; iy < grid.getSizeY(); ++iy)
+		for (unsigned ix = 0; ix < grid.getSizeX(); ++ix)
+			if (grid.getCell(ix, iy) < freeBelow) dm.addObstacle(int(ix) + offX, int(iy) + offY);
+	dm.update();
+	return dm;
+}
+
+const DynamicDistanceMap& PerfectMatchAligner::distanceLayerFor(const mrpt::maps::COccupancyGridMap2D& grid)
+{
+	// FNV-1a over the raw cells and the geometry: rebuilding is O(cells) anyway,
+	// hashing is much cheaper, so a grid that did not change is never rebuilt.
+	uint64_t h = 1469598103934665603ull;
+	auto mix = [&h](const void* p, std::size_t n) {
+		const auto* b = static_cast<const unsigned char*>(p);
+		for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+	};
+	const auto& raw = grid.getRawMap();
+	mix(raw.data(), raw.size() * sizeof(raw[0]));
+	const float geom[5] = {grid.getXMin(), grid.getYMin(), grid.getXMax(), grid.getYMax(), grid.getResolution()};
+	mix(geom, sizeof(geom));
+	if (!m_cache.map || m_cache.grid != &grid || m_cache.contentHash != h ||
+		m_cache.maxDistance != options.maxDistance || m_cache.threshold != options.occupiedThreshold)
+	{
+		m_cache.map = std::make_unique<DynamicDistanceMap>(
+			distanceMapFromGrid(grid, options.maxDistance, options.occupiedThreshold));
+		m_cache.grid = &grid;
+		m_cache.contentHash = h;
+		m_cache.maxDistance = options.maxDistance;
+		m_cache.threshold = options.occupiedThreshold;
+	}
+	return *m_cache.map;
+}
+
+mrpt::poses::CPosePDF::Ptr PerfectMatchAligner::AlignPDF(const mrpt::maps::CMetricMap* m1,
+														  const mrpt::maps::CMetricMap* m2,
+														  const mrpt::poses::CPosePDFGaussian& initialEstimationPDF,
+														  mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo)
+{
+	mrpt::system::CTicTac timer;
+	if (!m1 || !m2) throw std::invalid_argument("PerfectMatchAligner::AlignPDF: null map");
+	const auto* grid = dynamic_cast<const mrpt::maps::COccupancyGridMap2D*>(m1);
+	if (!grid)
+		if (const auto* multi = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(m1))
+			grid = multi->mapByClass<mrpt::maps::COccupancyGridMap2D>().get();
+	if (!grid)
+		throw std::invalid_argument(std::string("PerfectMatchAligner::AlignPDF: m1 must be an occupancy grid "
+												"(COccupancyGridMap2D or a CMultiMetricMap holding one), got ") +
+									m1->GetRuntimeClass()->className);
+	const auto* pts = dynamic_cast<const mrpt::maps::CPointsMap*>(m2);
+	if (!pts)
+		throw std::invalid_argument(std::string("PerfectMatchAligner::AlignPDF: m2 must be a points map, got ") +
+									m2->GetRuntimeClass()->className);
+
+	// The distance layer and the grid share cells only when the grid origin lies
+	// on the resolution lattice; otherwise work in the layer's frame, shifted.
+	const DynamicDistanceMap* layer = nullptr;
+	double shiftX = 0, shiftY = 0;
+	if (const auto* live = dynamic_cast<const OccupancyDistanceGridMap*>(grid))
+		layer = &live->distanceMap();
+	else
+	{
+		layer = &distanceLayerFor(*grid);
+		const double r = grid->getResolution();
+		shiftX = grid->getXMin() - std::lround(grid->getXMin() / r) * r;
+		shiftY = grid->getYMin() - std::lround(grid->getYMin() / r) * r;
+	}
+
+	const auto& xs = pts->getPointsBufferRef_x();
+	const auto& ys = pts->getPointsBufferRef_y();
+	std::vector<mrpt::math::TPoint2Df> points(xs.size());
+	for (std::size_t i = 0; i < xs.size(); ++i) points[i] = {xs[i], ys[i]};
+
+	mrpt::math::TPose2D init = initialEstimationPDF.mean.asTPose();
+	init.x -= shiftX;
+	init.y -= shiftY;
+	TReturnInfo local;
+	TReturnInfo* info = nullptr;
+	if (outInfo)
+		info = dynamic_cast<TReturnInfo*>(&outInfo.value().get());
+	if (!info) info = &local;
+	Eigen::Matrix3d cov;
+	mrpt::math::TPose2D result = alignPoints(*layer, points, init, info, &cov);
+	result.x += shiftX;
+	result.y += shiftY;
+
+	auto pdf = mrpt::poses::CPosePDFGaussian::Create();
+	pdf->mean = mrpt::poses::CPose2D(result);
+	for (int r = 0; r < 3; ++r)
+		for (int c = 0; c < 3; ++c) pdf->cov(r, c) = cov(r, c);
+	info->executionTime = timer.Tac();
+	if (outInfo) outInfo.value().get().executionTime = info->executionTime;
+	return pdf;
+}
+
+mrpt::poses::CPose3DPDF::Ptr PerfectMatchAligner::Align3DPDF(const mrpt::maps::CMetricMap*,
+															  const mrpt::maps::CMetricMap*,
+															  const mrpt::poses::CPose3DPDFGaussian&,
+															  mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult>)
+{
+	throw std::logic_error(
+		"PerfectMatchAligner::Align3DPDF: Perfect Match is a planar (2D) matcher; use AlignPDF with a 2D pose");
+}
+
+}  // namespace pmslam
