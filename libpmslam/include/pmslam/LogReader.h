@@ -95,8 +95,6 @@ class LogReader
 {
    public:
 	virtual ~LogReader() = default;
-	LogReader(const LogReader&) = delete;
-	LogReader& operator=(const LogReader&) = delete;
 
 	/** Opens by content/extension: .rawlog (plain or gz-compressed,
 	 * action–observation or observation-only), Carmen (.clf/.log/.txt, or

@@ -1,0 +1,37 @@
+/* pm-slam-app — progress line (see ProgressLine.h). */
+#include "ProgressLine.h"
+
+#include <cstdio>
+
+namespace pmslam
+{
+ProgressLine::ProgressLine(bool enabled, std::size_t total)
+	: m_enabled(enabled), m_total(total), m_start(std::chrono::steady_clock::now()), m_last(m_start)
+{
+}
+
+void ProgressLine::update(std::size_t done)
+{
+	if (!m_enabled) return;
+	const auto now = std::chrono::steady_clock::now();
+	if (now - m_last < std::chrono::milliseconds(250)) return;
+	m_last = now;
+	const double s = std::chrono::duration<double>(now - m_start).count();
+	const double rate = s > 0 ? done / s : 0.0;
+	if (m_total > done && rate > 0)
+		std::fprintf(stderr, "\r%zu/%zu scans, %.0f scans/s, ETA %.0f s   ", done, m_total, rate,
+					 (m_total - done) / rate);
+	else
+		std::fprintf(stderr, "\r%zu scans, %.0f scans/s   ", done, rate);
+	std::fflush(stderr);
+	m_shown = true;
+}
+
+void ProgressLine::clear()
+{
+	if (!m_shown) return;
+	std::fprintf(stderr, "\r%60s\r", "");
+	std::fflush(stderr);
+	m_shown = false;
+}
+}  // namespace pmslam

@@ -1,0 +1,25 @@
+/* pm-slam-app — a one-line progress display for terminals. */
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+
+namespace pmslam
+{
+/** Shows "scans done/total, scans per second, ETA" on stderr, redrawn at most
+ * 4 times a second; does nothing when disabled (not a terminal, CI). */
+class ProgressLine
+{
+   public:
+	ProgressLine(bool enabled, std::size_t total);
+	void update(std::size_t done);
+	/** Erases the line (before other output and at the end). */
+	void clear();
+
+   private:
+	bool m_enabled;
+	std::size_t m_total;
+	bool m_shown = false;
+	std::chrono::steady_clock::time_point m_start, m_last;
+};
+}  // namespace pmslam

@@ -1,0 +1,307 @@
+/* pm-slam-app — online Perfect Match SLAM on a robot log.
+ *
+ *   pm-slam-app [options] [LOG]
+ *
+ * Reads an MRPT .rawlog or a Carmen log, builds the map and the trajectory
+ * scan by scan, and writes them to --out (see --help and README.md).
+ */
+#include <mrpt/gui/CDisplayWindow.h>
+#include <pmslam/AtomicFile.h>
+#include <pmslam/CMetricMapBuilderPM.h>
+#include <pmslam/LogReader.h>
+#include <pmslam/MapExport.h>
+#include <pmslam/SlamConfig.h>
+#include <pmslam/Trajectory.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ProgressLine.h"
+
+namespace
+{
+const char* kDefaultLog = "/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+
+const char* kUsage =
+	R"(usage: pm-slam-app [options] [LOG]
+
+Online 2D laser SLAM with the Perfect Match scan matcher.
+LOG is an MRPT .rawlog (action-observation or observation-only, plain or gz)
+or a Carmen log (.clf/.log: FLASER, RLASER, ROBOTLASER1, ODOM). Without LOG,
+the sample log that MRPT installs is mapped:
+  )" "%s" R"(
+
+options (before or after LOG):
+  --config FILE           INI configuration (sections [PerfectMatch], [MappingApplication], [Log];
+                          every key is documented in config/default.ini)
+  --set SECTION.KEY=VALUE override one configuration key (repeatable)
+  --out DIR               output folder (default ./pmslam-out)
+  --max-scans N           stop after N scans (0 = all)
+  --gui                   live view of map, scan and trajectory (needs a display)
+  --progress / --no-progress  force the progress line on or off (default: on when stderr is a terminal)
+  --quiet                 no summary, only warnings and errors
+  -h, --help              this text
+
+outputs in DIR: trajectory.txt (timestamp x y yaw, one line per scan), map.png,
+map.pgm + map.yaml (ROS map_server), map.gridmap.gz and map.simplemap.gz (MRPT),
+timing.txt (per-scan milliseconds). Exit status: 0 done, 2 bad input or
+configuration, 1 failure while running, 130 interrupted (outputs still written).
+)";
+
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop = true; }
+
+struct Args
+{
+	std::string log, config, out = "pmslam-out";
+	std::vector<std::string> sets;
+	std::size_t maxScans = 0;
+	bool gui = false, quiet = false;
+	int progress = -1;	// -1 auto
+};
+
+[[noreturn]] void usageError(const std::string& msg)
+{
+	std::cerr << "pm-slam-app: " << msg << " (see --help)\n";
+	std::exit(2);
+}
+
+Args parseArgs(int argc, char** argv)
+{
+	Args a;
+	std::vector<std::string> positional;
+	for (int i = 1; i < argc; ++i)
+	{
+		const std::string s = argv[i];
+		auto value = [&](const char* name) -> std::string {
+			if (i + 1 >= argc) usageError(std::string(name) + " needs a value");
+			return argv[++i];
+		};
+		if (s == "-h" || s == "--help")
+		{
+			std::printf(kUsage, kDefaultLog);
+			std::exit(0);
+		}
+		else if (s == "--config") a.config = value("--config");
+		else if (s == "--set") a.sets.push_back(value("--set"));
+		else if (s == "--out") a.out = value("--out");
+		else if (s == "--max-scans")
+		{
+			const std::string v = value("--max-scans");
+			char* end = nullptr;
+			const long n = std::strtol(v.c_str(), &end, 10);
+			if (end == v.c_str() || *end || n < 0) usageError("--max-scans '" + v + "': expected a whole number >= 0");
+			a.maxScans = static_cast<std::size_t>(n);
+		}
+		else if (s == "--gui") a.gui = true;
+		else if (s == "--quiet") a.quiet = true;
+		else if (s == "--progress") a.progress = 1;
+		else if (s == "--no-progress") a.progress = 0;
+		else if (s.size() > 1 && s[0] == '-') usageError("unknown option '" + s + "'");
+		else positional.push_back(s);
+	}
+	if (positional.size() > 1) usageError("expected one LOG, got " + std::to_string(positional.size()));
+	a.log = positional.empty() ? kDefaultLog : positional[0];
+	return a;
+}
+
+double percentile(std::vector<double> v, double q)
+{
+	if (v.empty()) return 0;
+	const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
+	std::nth_element(v.begin(), v.begin() + k, v.end());
+	return v[k];
+}
+
+double peakRssMB()
+{
+	rusage ru{};
+	getrusage(RUSAGE_SELF, &ru);
+	return ru.ru_maxrss / 1024.0;  // Linux reports KiB
+}
+
+struct ScanTiming
+{
+	double timestamp, matchMs, updateMs;
+	bool matched, inserted;
+};
+
+void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& slam, const pmslam::Trajectory& traj,
+				  const std::vector<ScanTiming>& timing, const std::string& header)
+{
+	namespace fs = std::filesystem;
+	const auto at = [&](const char* name) { return (fs::path(dir) / name).string(); };
+	pmslam::saveTrajectory(at("trajectory.txt"), traj, header + "\nposes of the robot base in the map frame (m, m, rad)");
+	pmslam::writeFileAtomically(at("timing.txt"), [&](std::ostream& out) {
+		out << "# " << header << "\n# timestamp match_ms update_ms total_ms matched inserted\n";
+		char line[160];
+		for (const auto& t : timing)
+		{
+			std::snprintf(line, sizeof line, "%.6f %.4f %.4f %.4f %d %d\n", t.timestamp, t.matchMs, t.updateMs,
+						  t.matchMs + t.updateMs, int(t.matched), int(t.inserted));
+			out << line;
+		}
+	});
+	const auto& grid = slam.grid();
+	pmslam::saveMapPng(grid, traj, at("map.png"));
+	pmslam::saveMapPgmYaml(grid, at("map.pgm"), at("map.yaml"));
+	pmslam::saveGridMapGz(grid, at("map.gridmap.gz"));
+	mrpt::maps::CSimpleMap sm;
+	slam.getCurrentlyBuiltMap(sm);
+	pmslam::saveSimpleMapGz(sm, at("map.simplemap.gz"));
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	const Args args = parseArgs(argc, argv);
+
+	pmslam::SlamConfig cfg;
+	try
+	{
+		cfg = pmslam::loadSlamConfig(args.config, args.sets);
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "pm-slam-app: " << e.what() << "\n";
+		return 2;
+	}
+	try
+	{
+		pmslam::checkDirectoryWritable(args.out);
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "pm-slam-app: --out " << args.out << ": " << e.what() << "\n";
+		return 2;
+	}
+	std::unique_ptr<pmslam::LogReader> reader;
+	try
+	{
+		reader = pmslam::LogReader::open(args.log, cfg.log);
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "pm-slam-app: " << e.what() << "\n";
+		return 2;
+	}
+
+	const bool showProgress = args.progress == 1 || (args.progress == -1 && isatty(STDERR_FILENO) && !args.quiet);
+	pmslam::ProgressLine progress(showProgress, reader->estimatedScanCount());
+	reader->onWarning = [&](const std::string& w) {
+		progress.clear();
+		std::cerr << "pm-slam-app: warning: " << w << "\n";
+	};
+
+	pmslam::CMetricMapBuilderPM slam;
+	slam.PM_options = cfg.mapping;
+	slam.PM_params = cfg.matcher;
+	slam.initialize();
+
+	mrpt::gui::CDisplayWindow::Ptr window;
+	if (args.gui)
+	{
+		if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
+			std::cerr << "pm-slam-app: warning: --gui needs a display (DISPLAY is not set); running headless\n";
+		else
+			window = mrpt::gui::CDisplayWindow::Create("pm-slam-app: " + args.log);
+	}
+
+	std::signal(SIGINT, onSignal);
+	std::signal(SIGTERM, onSignal);
+
+	pmslam::Trajectory traj;
+	std::vector<ScanTiming> timing;
+	const auto wallStart = std::chrono::steady_clock::now();
+	auto lastGui = wallStart;
+	bool failed = false;
+	std::string failure;
+	try
+	{
+		pmslam::LogEvent ev;
+		while (!g_stop && reader->next(ev))
+		{
+			if (ev.kind == pmslam::LogEvent::Kind::Odometry)
+			{
+				if (cfg.odometrySource != pmslam::OdometrySource::Scan) slam.processOdometry(ev.odometry);
+				continue;
+			}
+			std::optional<mrpt::math::TPose2D> odo;
+			if (ev.scanHasOdometry && cfg.odometrySource != pmslam::OdometrySource::Events) odo = ev.scanOdometry;
+			const auto& r = slam.processScan(*ev.scan, odo);
+			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
+			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.matched, r.inserted});
+			progress.update(traj.size());
+			if (window && std::chrono::steady_clock::now() - lastGui > std::chrono::milliseconds(500))
+			{
+				window->showImage(pmslam::renderMap(slam.grid(), traj));
+				lastGui = std::chrono::steady_clock::now();
+			}
+			if (args.maxScans && traj.size() >= args.maxScans) break;
+		}
+	}
+	catch (const std::exception& e)
+	{
+		failed = true;
+		failure = e.what();
+	}
+	progress.clear();
+	const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+
+	if (g_stop) std::cerr << "pm-slam-app: interrupted after " << traj.size() << " scans: writing what was computed\n";
+	if (failed)
+		std::cerr << "pm-slam-app: error after " << traj.size() << " scans: " << failure
+				  << ": writing what was computed\n";
+
+	std::ostringstream header;
+	header << "pm-slam-app " << args.log << " (" << traj.size() << " scans)";
+	try
+	{
+		writeOutputs(args.out, slam, traj, timing, header.str());
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "pm-slam-app: cannot write outputs to " << args.out << ": " << e.what() << "\n";
+		return 1;
+	}
+
+	if (!args.quiet)
+	{
+		std::vector<double> total;
+		total.reserve(timing.size());
+		for (const auto& t : timing) total.push_back(t.matchMs + t.updateMs);
+		const double sumMs = std::accumulate(total.begin(), total.end(), 0.0);
+		const double logSpan = traj.size() > 1 ? traj.back().timestamp - traj.front().timestamp : 0.0;
+		const auto& st = reader->stats();
+		std::printf("pm-slam-app: %s\n", args.log.c_str());
+		std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
+					traj.size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
+		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
+					total.empty() ? 0.0 : sumMs / total.size(), percentile(total, 0.5), percentile(total, 0.99));
+		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx, peak memory %.1f MB\n",
+					sumMs / 1000.0, wallS, sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0, peakRssMB());
+		std::printf("  map: %s/map.png (and map.pgm/.yaml, map.gridmap.gz, map.simplemap.gz), trajectory: %s/trajectory.txt\n",
+					args.out.c_str(), args.out.c_str());
+	}
+	if (window)
+	{
+		window->showImage(pmslam::renderMap(slam.grid(), traj));
+		std::cout << "Close the window or press a key in it to exit.\n";
+		window->waitForKey();
+	}
+	if (failed) return 1;
+	if (g_stop) return 130;
+	return 0;
+}

@@ -1,0 +1,115 @@
+/* pmslam — online Perfect Match SLAM as an MRPT map builder.
+ *
+ * Follows mrpt::slam::CMetricMapBuilder the way CMetricMapBuilderICP does:
+ * feed it action/observation pairs or plain observations and it keeps the
+ * current pose, the map (an OccupancyDistanceGridMap inside a CMultiMetricMap)
+ * and the keyframes that built it (a CSimpleMap).
+ *
+ * The loop (Pedrosa, Lau, Reis): the first scan is inserted at (0,0,0) without
+ * matching. Each later scan's pose is predicted from odometry; once the robot
+ * has moved more than the insertion thresholds since the last insertion, the
+ * scan is matched against the map with the Perfect Match aligner starting from
+ * the prediction, and inserted at the corrected pose. Scans below the threshold
+ * keep the odometry-propagated pose. Every scan gets a pose.
+ *
+ * Frames: poses are of the robot base in the map frame (metres, radians);
+ * scans carry their own sensorPose relative to the base.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/slam/CMetricMapBuilder.h>
+#include <pmslam/OccupancyDistanceGridMap.h>
+#include <pmslam/PerfectMatchAligner.h>
+
+#include <memory>
+#include <optional>
+
+namespace pmslam
+{
+/** Builder options; INI section [MappingApplication] (grid keys in the same section). */
+struct MapBuilderOptions : public mrpt::config::CLoadableOptions
+{
+	double insertionLinDistance = 0.01;	 ///< match + insert once the robot moved this far (m)...
+	double insertionAngDistance = 0.5;	///< ...or turned this much (rad) since the last insertion
+	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected and the
+	 * odometry prediction kept (0 accepts every match). */
+	double minGoodness = 0.0;
+	/** Scans with fewer usable returns than this are not matched. */
+	unsigned minPoints = 20;
+	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
+	bool keepSimpleMap = true;
+	OccupancyGridUpdateOptions grid;
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+	void dumpToTextStream(std::ostream& out) const override;
+};
+
+class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
+{
+   public:
+	CMetricMapBuilderPM();
+	~CMetricMapBuilderPM() override;
+
+	MapBuilderOptions PM_options;  ///< mapping options (apply before initialize())
+	PerfectMatchAligner::TConfigParams PM_params;  ///< matcher options
+
+	/** What happened to the last scan. */
+	struct ScanResult
+	{
+		mrpt::math::TPose2D pose;  ///< robot pose assigned to the scan (map frame)
+		mrpt::math::TPose2D predicted;	///< odometry prediction it started from
+		bool matched = false, inserted = false;
+		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
+		std::size_t cellsFlipped = 0;
+		PerfectMatchAligner::TReturnInfo info;
+	};
+
+	// --- CMetricMapBuilder interface ---
+	/** Resets; optionally starts from an existing map (its scans are re-inserted) and pose x0. */
+	void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
+					const mrpt::poses::CPosePDF* x0 = nullptr) override;
+	mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const override;
+	void processActionObservation(mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& in_SF) override;
+	void getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const override;
+	unsigned int getCurrentlyBuiltMapSize() override;
+	const mrpt::maps::CMultiMetricMap* getCurrentlyBuiltMetricMap() const override;
+	void saveCurrentEstimationToImage(const std::string& file, bool formatEMF_BMP = true) override;
+
+	/** Observation-only entry: CObservationOdometry updates odometry, CObservation2DRangeScan is processed. */
+	void processObservation(const mrpt::obs::CObservation::Ptr& obs);
+
+	// --- direct entry points (what the above call) ---
+	/** Latest odometry reading of the robot base (any frame; only increments are used). */
+	void processOdometry(const mrpt::math::TPose2D& odometry);
+	/** Processes one scan; `odometryAtScan`, when given, is the odometry at the scan's time
+	 * (Carmen FLASER lines carry it) and takes precedence over processOdometry() readings. */
+	const ScanResult& processScan(const mrpt::obs::CObservation2DRangeScan& scan,
+								  const std::optional<mrpt::math::TPose2D>& odometryAtScan = std::nullopt);
+
+	const ScanResult& lastScanResult() const { return m_last; }
+	mrpt::math::TPose2D currentPose() const { return m_pose; }
+	const OccupancyDistanceGridMap& grid() const { return *m_grid; }
+	std::size_t scansProcessed() const { return m_scans; }
+	std::size_t scansMatched() const { return m_matched; }
+	std::size_t scansInserted() const { return m_inserted; }
+
+   private:
+	std::shared_ptr<OccupancyDistanceGridMap> m_grid;
+	mrpt::maps::CMultiMetricMap m_metricMap;
+	mrpt::maps::CSimpleMap m_simpleMap;
+	PerfectMatchAligner m_aligner;
+	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
+	mrpt::math::TPose2D m_lastInsertPose{0, 0, 0};
+	std::optional<mrpt::math::TPose2D> m_odometry;	// latest reading
+	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
+	bool m_mapEmpty = true;
+	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0;
+	ScanResult m_last;
+};
+
+}  // namespace pmslam

@@ -1,0 +1,206 @@
+/* pmslam — Perfect Match map builder (see CMetricMapBuilderPM.h). */
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <pmslam/CMetricMapBuilderPM.h>
+
+#include <Eigen/LU>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace pmslam
+{
+void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	insertionLinDistance = c.read_double(s, "insertionLinDistance", insertionLinDistance);
+	insertionAngDistance = mrpt::DEG2RAD(
+		c.read_double(s, "insertionAngDistance_deg", mrpt::RAD2DEG(insertionAngDistance)));
+	minGoodness = c.read_double(s, "minGoodness", minGoodness);
+	minPoints = static_cast<unsigned>(c.read_int(s, "minPoints", static_cast<int>(minPoints)));
+	keepSimpleMap = c.read_bool(s, "keepSimpleMap", keepSimpleMap);
+	grid.loadFromConfigFile(c, s);
+	auto need = [](bool ok, const std::string& what) {
+		if (!ok) throw std::invalid_argument("[MappingApplication] " + what);
+	};
+	need(insertionLinDistance >= 0 && insertionLinDistance <= 100, "insertionLinDistance: expected 0..100 m");
+	need(insertionAngDistance >= 0 && insertionAngDistance <= 2 * M_PI, "insertionAngDistance_deg: expected 0..360");
+	need(minGoodness >= 0 && minGoodness <= 1, "minGoodness: expected 0..1");
+	need(grid.resolution >= 0.005 && grid.resolution <= 2, "resolution: expected 0.005..2 m");
+	need(grid.maxDistance > grid.resolution && grid.maxDistance <= 10, "maxDistance: expected resolution..10 m");
+	need(grid.hitProbability > 0.5 && grid.hitProbability < 1, "hitProbability: expected (0.5, 1)");
+	need(grid.missProbability > 0 && grid.missProbability < 0.5, "missProbability: expected (0, 0.5)");
+	need(grid.clampProbability > 0.5 && grid.clampProbability < 1, "clampProbability: expected (0.5, 1)");
+	need(grid.scan.minRange >= 0, "minRange: expected >= 0");
+	need(grid.scan.maxHitRange >= 0, "maxHitRange: expected >= 0 (0 = no limit)");
+	need(grid.scan.noReturnCarveRange >= 0, "noReturnCarveRange: expected >= 0 (0 = off)");
+}
+
+void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
+{
+	out << "insertionLinDistance = " << insertionLinDistance
+		<< "\ninsertionAngDistance_deg = " << mrpt::RAD2DEG(insertionAngDistance) << "\nminGoodness = " << minGoodness
+		<< "\nminPoints = " << minPoints << "\nkeepSimpleMap = " << keepSimpleMap << "\n";
+	grid.dumpToTextStream(out);
+}
+
+CMetricMapBuilderPM::CMetricMapBuilderPM()
+{
+	setLoggerName("CMetricMapBuilderPM");
+	initialize();
+}
+
+CMetricMapBuilderPM::~CMetricMapBuilderPM() = default;
+
+void CMetricMapBuilderPM::initialize(const mrpt::maps::CSimpleMap& initialMap, const mrpt::poses::CPosePDF* x0)
+{
+	std::lock_guard<std::mutex> lock(critZoneChangingMap);
+	m_grid = std::make_shared<OccupancyDistanceGridMap>(PM_options.grid);
+	m_metricMap.maps.clear();
+	m_metricMap.maps.push_back(m_grid);
+	m_simpleMap.clear();
+	m_aligner.options = PM_params;
+	m_pose = x0 ? x0->getMeanVal().asTPose() : mrpt::math::TPose2D(0, 0, 0);
+	m_lastInsertPose = m_pose;
+	m_odometry.reset();
+	m_odometryAtLastScan.reset();
+	m_mapEmpty = true;
+	m_scans = m_matched = m_inserted = 0;
+	m_last = ScanResult();
+	m_last.pose = m_last.predicted = m_pose;
+	// Re-insert a given map's keyframes at their stored poses.
+	for (const auto& [posePDF, sf] : initialMap)
+	{
+		if (!posePDF || !sf) continue;
+		const mrpt::math::TPose2D p = mrpt::poses::CPose2D(posePDF->getMeanVal()).asTPose();
+		for (const auto& obs : *sf)
+			if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(obs.get()))
+			{
+				m_grid->insertScan(scanToPoints(*scan, PM_options.grid.scan), p);
+				m_mapEmpty = false;
+			}
+		if (PM_options.keepSimpleMap) m_simpleMap.insert(posePDF, sf);
+	}
+}
+
+void CMetricMapBuilderPM::processOdometry(const mrpt::math::TPose2D& odometry) { m_odometry = odometry; }
+
+const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
+	const mrpt::obs::CObservation2DRangeScan& scan, const std::optional<mrpt::math::TPose2D>& odometryAtScan)
+{
+	using Clock = std::chrono::steady_clock;
+	std::lock_guard<std::mutex> lock(critZoneChangingMap);
+	++m_scans;
+	ScanResult r;
+
+	// Predict: apply the odometry increment since the previous scan to the current estimate.
+	const std::optional<mrpt::math::TPose2D> odomNow = odometryAtScan ? odometryAtScan : m_odometry;
+	r.predicted = m_pose;
+	if (odomNow && m_odometryAtLastScan)
+	{
+		const mrpt::poses::CPose2D delta = mrpt::poses::CPose2D(*odomNow) - mrpt::poses::CPose2D(*m_odometryAtLastScan);
+		r.predicted = (mrpt::poses::CPose2D(m_pose) + delta).asTPose();
+	}
+	if (odomNow) m_odometryAtLastScan = odomNow;
+	r.pose = r.predicted;
+
+	const double lin = std::hypot(r.predicted.x - m_lastInsertPose.x, r.predicted.y - m_lastInsertPose.y);
+	const double ang = std::abs(mrpt::math::wrapToPi(r.predicted.phi - m_lastInsertPose.phi));
+	const bool moved = lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
+
+	if (m_mapEmpty || moved || !options.enableMapUpdating)
+	{
+		const ScanPoints pts = scanToPoints(scan, PM_options.grid.scan);
+		if (!m_mapEmpty && (moved || !options.enableMapUpdating) && pts.hits.size() >= PM_options.minPoints)
+		{
+			const auto t0 = Clock::now();
+			const mrpt::math::TPose2D est = m_aligner.alignPoints(m_grid->distanceMap(), pts.hits, r.predicted, &r.info);
+			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+			if (r.info.goodness >= PM_options.minGoodness)
+			{
+				r.pose = est;
+				r.matched = true;
+				++m_matched;
+			}
+		}
+		const bool insert = options.enableMapUpdating && (m_mapEmpty || moved) && !pts.hits.empty();
+		if (insert)
+		{
+			const auto t0 = Clock::now();
+			r.cellsFlipped = m_grid->insertScan(pts, r.pose);
+			r.updateMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+			r.inserted = true;
+			m_lastInsertPose = r.pose;
+			m_mapEmpty = false;
+			++m_inserted;
+			if (PM_options.keepSimpleMap)
+			{
+				auto sf = mrpt::obs::CSensoryFrame::Create();
+				sf->insert(mrpt::obs::CObservation2DRangeScan::Create(scan));
+				auto posePDF = mrpt::poses::CPose3DPDFGaussian::Create();
+				posePDF->mean = mrpt::poses::CPose3D(mrpt::poses::CPose2D(r.pose));
+				m_simpleMap.insert(posePDF, sf);
+			}
+		}
+	}
+	m_pose = r.pose;
+	m_last = r;
+	return m_last;
+}
+
+void CMetricMapBuilderPM::processObservation(const mrpt::obs::CObservation::Ptr& obs)
+{
+	if (!obs) return;
+	if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(obs.get()))
+		processOdometry(odo->odometry.asTPose());
+	else if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(obs.get()))
+		processScan(*scan);
+}
+
+void CMetricMapBuilderPM::processActionObservation(mrpt::obs::CActionCollection& action,
+												   mrpt::obs::CSensoryFrame& in_SF)
+{
+	// Actions carry odometry increments: accumulate them into an odometry pose.
+	if (const auto mov = action.getBestMovementEstimation())
+	{
+		const mrpt::poses::CPose2D base = m_odometry ? mrpt::poses::CPose2D(*m_odometry) : mrpt::poses::CPose2D();
+		m_odometry = (base + mov->poseChange->getMeanVal()).asTPose();
+		if (!m_odometryAtLastScan) m_odometryAtLastScan = base.asTPose();
+	}
+	for (const auto& obs : in_SF) processObservation(obs);
+}
+
+mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderPM::getCurrentPoseEstimation() const
+{
+	auto pdf = mrpt::poses::CPose3DPDFGaussian::Create();
+	pdf->mean = mrpt::poses::CPose3D(mrpt::poses::CPose2D(m_pose));
+	if (m_last.matched)
+	{
+		Eigen::Matrix3d H = m_last.info.hessian;
+		H.diagonal().array() += 1e-6;
+		const Eigen::Matrix3d C = H.inverse();
+		const int idx[3] = {0, 1, 3};  // x, y, yaw in the 6D covariance
+		for (int i = 0; i < 3; ++i)
+			for (int j = 0; j < 3; ++j) pdf->cov(idx[i], idx[j]) = C(i, j);
+	}
+	return pdf;
+}
+
+void CMetricMapBuilderPM::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const { out_map = m_simpleMap; }
+
+unsigned int CMetricMapBuilderPM::getCurrentlyBuiltMapSize() { return static_cast<unsigned>(m_simpleMap.size()); }
+
+const mrpt::maps::CMultiMetricMap* CMetricMapBuilderPM::getCurrentlyBuiltMetricMap() const { return &m_metricMap; }
+
+void CMetricMapBuilderPM::saveCurrentEstimationToImage(const std::string& file, bool)
+{
+	if (!m_grid->saveAsBitmapFile(file)) throw std::runtime_error("cannot write map image '" + file + "'");
+}
+
+}  // namespace pmslam

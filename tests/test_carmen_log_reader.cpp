@@ -1,0 +1,3 @@
+#include <gtest/gtest.h>
+#include <pmslam/LogReader.h>
+TEST(X,Y){}
