@@ -114,31 +114,6 @@ std::string fmt6(double v)
 	return b;
 }
 
-/** First meaningful line of an (MRPT) exception text. */
-std::string shortReason(const std::string& what)
-{
-	std::string best;
-	std::istringstream ss(what);
-	std::string l;
-	while (std::getline(ss, l))
-	{
-		const auto b = l.find_first_not_of(" \t\r");
-		if (b == std::string::npos) continue;
-		l = l.substr(b);
-		if (l.rfind("====", 0) == 0) continue;
-		if (l.rfind("Message:", 0) == 0)
-		{
-			l = l.substr(8);
-			const auto b2 = l.find_first_not_of(" \t");
-			best = b2 == std::string::npos ? std::string() : l.substr(b2);
-			break;
-		}
-		if (best.empty()) best = l;
-	}
-	if (best.size() > 160) best = best.substr(0, 157) + "...";
-	return best.empty() ? std::string("unknown error") : best;
-}
-
 /** Thrown internally to skip the current line. */
 struct SkipLine
 {
@@ -262,7 +237,7 @@ void mrptParse(const std::string& line, std::size_t n, mrpt::obs::CObservation2D
 	}
 	catch (const std::exception& e)
 	{
-		throw SkipLine{"MRPT's Carmen importer rejected the line (" + shortReason(e.what()) + ")"};
+		throw SkipLine{"MRPT's Carmen importer rejected the line (" + exceptionSummary(e.what()) + ")"};
 	}
 	for (const auto& o : obs)
 	{
@@ -324,7 +299,7 @@ bool CarmenLogReader::next(LogEvent& ev)
 		}
 		catch (const std::exception& e)
 		{
-			warn(m_path + ":" + std::to_string(d.lineNo + 1) + ": read error (" + shortReason(e.what()) +
+			warn(m_path + ":" + std::to_string(d.lineNo + 1) + ": read error (" + exceptionSummary(e.what()) +
 				 "), stopping");
 			d.done = true;
 			return false;

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <system_error>
 #include <utility>
 
@@ -27,6 +28,41 @@ void LogReader::warn(const std::string& message)
 {
 	++m_stats.warnings;
 	if (onWarning) onWarning(message);
+}
+
+std::string LogReader::exceptionSummary(const std::string& what)
+{
+	std::istringstream ss(what);
+	std::string l, first, last, other;
+	while (std::getline(ss, l))
+	{
+		const auto b = l.find_first_not_of(" \t\r");
+		if (b == std::string::npos) continue;
+		l = l.substr(b);
+		while (!l.empty() && (l.back() == '\r' || l.back() == ' ')) l.pop_back();
+		if (l.rfind("====", 0) == 0) continue;
+		if (l.rfind("Message:", 0) == 0)
+		{
+			l = l.substr(8);
+			const auto b2 = l.find_first_not_of(" \t");
+			l = b2 == std::string::npos ? std::string() : l.substr(b2);
+			if (first.empty()) first = l;
+			last = l;
+		}
+		else if (other.empty())
+			other = l;
+	}
+	std::string best = last.empty() ? other : last;
+	const std::string key = "typed object '";
+	const auto k = first.find(key);
+	if (k != std::string::npos && first != last)
+	{
+		const auto e = first.find('\'', k + key.size());
+		const std::string cls = first.substr(k + key.size(), e == std::string::npos ? 0 : e - k - key.size());
+		if (!cls.empty() && cls.find(' ') == std::string::npos) best = "reading " + cls + ": " + best;
+	}
+	if (best.size() > 200) best = best.substr(0, 197) + "...";
+	return best.empty() ? std::string("unknown error") : best;
 }
 
 namespace
@@ -139,14 +175,7 @@ bool startsWithRawlogObject(const std::string& path, std::string& reason)
 	}
 	catch (const std::exception& e)
 	{
-		std::string w = e.what();
-		const auto m = w.find("Message:");
-		if (m != std::string::npos) w = w.substr(m + 8);
-		const auto b = w.find_first_not_of(" \t\r\n");
-		w = b == std::string::npos ? std::string() : w.substr(b);
-		const auto nl = w.find('\n');
-		if (nl != std::string::npos) w = w.substr(0, nl);
-		reason = "first object unreadable: " + w;
+		reason = "first object unreadable: " + LogReader::exceptionSummary(e.what());
 		return false;
 	}
 }

@@ -35,6 +35,7 @@ void OccupancyGridUpdateOptions::loadFromConfigFile(const mrpt::config::CConfigF
 	hitProbability = c.read_double(s, "hitProbability", hitProbability);
 	missProbability = c.read_double(s, "missProbability", missProbability);
 	clampProbability = c.read_double(s, "clampProbability", clampProbability);
+	joinHitsCloserThan = c.read_double(s, "joinHitsCloserThan", joinHitsCloserThan);
 	scan.minRange = c.read_double(s, "minRange", scan.minRange);
 	scan.maxHitRange = c.read_double(s, "maxHitRange", scan.maxHitRange);
 	scan.noReturnCarveRange = c.read_double(s, "noReturnCarveRange", scan.noReturnCarveRange);
@@ -44,7 +45,8 @@ void OccupancyGridUpdateOptions::dumpToTextStream(std::ostream& out) const
 {
 	out << "resolution = " << resolution << "\nmaxDistance = " << maxDistance
 		<< "\nhitProbability = " << hitProbability << "\nmissProbability = " << missProbability
-		<< "\nclampProbability = " << clampProbability << "\nminRange = " << scan.minRange
+		<< "\nclampProbability = " << clampProbability << "\njoinHitsCloserThan = " << joinHitsCloserThan
+		<< "\nminRange = " << scan.minRange
 		<< "\nmaxHitRange = " << scan.maxHitRange << "\nnoReturnCarveRange = " << scan.noReturnCarveRange << "\n";
 }
 
@@ -145,29 +147,21 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 		const auto [wx, wy] = toWorld(p.x, p.y);
 		return std::pair<int, int>(x2idx(wx), y2idx(wy));
 	};
-	// Hits first, so a cell that is both hit and crossed in this scan counts as hit.
-	for (const auto& p : scan.hits)
-	{
-		const auto [ix, iy] = cellOf(p);
-		auto& st = m_stamp[std::size_t(iy) * m_size_x + ix];
-		if (st == m_scanId) continue;
+	// Each cell is updated at most once per scan: the stamp says it was done.
+	auto touch = [&](int x, int y, int delta) {
+		auto& st = m_stamp[std::size_t(y) * m_size_x + x];
+		if (st == m_scanId) return;
 		st = m_scanId;
-		applyUpdate(ix, iy, m_hitDelta);
-	}
-	// Free space: every cell a beam crosses before its endpoint (Bresenham).
-	auto carve = [&](int ex, int ey) {
-		int x = sx, y = sy;
+		applyUpdate(x, y, delta);
+	};
+	// Visits the cells of the Bresenham line from (x, y) to (ex, ey), the end excluded.
+	auto line = [&](int x, int y, int ex, int ey, int delta) {
 		const int dx = std::abs(ex - x), dy = -std::abs(ey - y);
 		const int stepX = x < ex ? 1 : -1, stepY = y < ey ? 1 : -1;
 		int err = dx + dy;
 		while (x != ex || y != ey)
 		{
-			auto& st = m_stamp[std::size_t(y) * m_size_x + x];
-			if (st != m_scanId)
-			{
-				st = m_scanId;
-				applyUpdate(x, y, m_missDelta);
-			}
+			touch(x, y, delta);
 			const int e2 = 2 * err;
 			if (e2 >= dy)
 			{
@@ -181,15 +175,33 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 			}
 		}
 	};
+	// Hits first, so a cell that is both hit and crossed in this scan counts as hit.
+	const double join2 = m_opts.joinHitsCloserThan * m_opts.joinHitsCloserThan;
+	for (std::size_t i = 0; i < scan.hits.size(); ++i)
+	{
+		const auto [ix, iy] = cellOf(scan.hits[i]);
+		touch(ix, iy, m_hitDelta);
+		if (i > 0 && join2 > 0)
+		{
+			const auto& a = scan.hits[i - 1];
+			const auto& b = scan.hits[i];
+			if (double(a.x - b.x) * (a.x - b.x) + double(a.y - b.y) * (a.y - b.y) < join2)
+			{
+				const auto [jx, jy] = cellOf(a);
+				line(jx, jy, ix, iy, m_hitDelta);
+			}
+		}
+	}
+	// Free space: every cell a beam crosses before its endpoint.
 	for (const auto& p : scan.hits)
 	{
 		const auto [ix, iy] = cellOf(p);
-		carve(ix, iy);
+		line(sx, sy, ix, iy, m_missDelta);
 	}
 	for (const auto& p : scan.freeEnds)
 	{
 		const auto [ix, iy] = cellOf(p);
-		carve(ix, iy);
+		line(sx, sy, ix, iy, m_missDelta);
 	}
 	m_distance.update();
 	m_is_empty = false;

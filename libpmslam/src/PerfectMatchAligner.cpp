@@ -133,28 +133,44 @@ class CostFunction
 	{
 	}
 
-	Evaluation operator()(const Eigen::Vector3d& x, bool wantNormalEquations) const
+	enum Need : unsigned
+	{
+		kGradient = 0,	// RPROP iterations: the gradient is all they use
+		kCost = 1,
+		kNormal = 2,  // GN/LM: weighted normal equations and the kernel's cost
+		kCurvature = 4	// the final pose: curvature and statistics
+	};
+
+	Evaluation operator()(const Eigen::Vector3d& x, unsigned need) const
 	{
 		Evaluation e;
 		const double c = std::cos(x[2]), s = std::sin(x[2]);
+		double g0 = 0, g1 = 0, g2 = 0;	// gradient accumulated in scalars: the hot loop of RPROP
 		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
 		{
 			const double px = m_pts[i].x, py = m_pts[i].y;
-			const double qx = x[0] + c * px - s * py, qy = x[1] + s * px + c * py;
+			const double rx = c * px - s * py, ry = s * px + c * py;  // rotated point
 			double gx, gy;
-			const double d = m_map.distanceAt(qx, qy, &gx, &gy);
+			const double d = m_map.distanceAt(x[0] + rx, x[1] + ry, &gx, &gy);
 			const double denom = m_s2 + d * d;
-			e.cost += std::log1p(d * d / m_s2);
-			e.likelihoodSum += m_s2 / denom;
-			++e.n;
-			if (d < m_far) ++e.inliers;
 			// dΔ/d(x, y, θ): the map gradient chained through the endpoint's pose Jacobian.
-			const Eigen::Vector3d J(gx, gy, gx * (-s * px - c * py) + gy * (c * px - s * py));
-			e.gradient += (2.0 * d / denom) * J;
-			const Eigen::Matrix3d JJ = J * J.transpose();
-			e.hessian += (2.0 / denom) * JJ;
-			if (wantNormalEquations)
+			const double jth = -gx * ry + gy * rx;
+			const double k = 2.0 * d / denom;
+			g0 += k * gx;
+			g1 += k * gy;
+			g2 += k * jth;
+			++e.n;
+			if (need & (kCost | kNormal | kCurvature)) e.cost += std::log1p(d * d / m_s2);
+			if (need & kCurvature)
 			{
+				const Eigen::Vector3d J(gx, gy, jth);
+				e.likelihoodSum += m_s2 / denom;
+				if (d < m_far) ++e.inliers;
+				e.hessian += (2.0 / denom) * (J * J.transpose());
+			}
+			if (need & kNormal)
+			{
+				const Eigen::Vector3d J(gx, gy, jth);
 				double w = 1.0;
 				switch (m_kernel)
 				{
@@ -170,10 +186,11 @@ class CostFunction
 						e.kernelCost += d <= m_sigma ? d * d / m_s2 : 2.0 * d / m_sigma - 1.0;
 						break;
 				}
-				e.JtWJ += w * JJ;
+				e.JtWJ += w * (J * J.transpose());
 				e.JtWr += w * d * J;
 			}
 		}
+		e.gradient = Eigen::Vector3d(g0, g1, g2);
 		return e;
 	}
 
@@ -195,7 +212,7 @@ double PerfectMatchAligner::cost(const DynamicDistanceMap& map, const std::vecto
 {
 	TConfigParams o = options;
 	o.decimation = 1;
-	return CostFunction(map, points, o)(Eigen::Vector3d(pose.x, pose.y, pose.phi), false).cost;
+	return CostFunction(map, points, o)(Eigen::Vector3d(pose.x, pose.y, pose.phi), CostFunction::kCost).cost;
 }
 
 mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& map,
@@ -205,7 +222,8 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 {
 	const CostFunction f(map, points, options);
 	Eigen::Vector3d x(initial.x, initial.y, initial.phi);
-	Evaluation cur = f(x, options.optimizer != Optimizer::RPROP);
+	const bool rprop = options.optimizer == Optimizer::RPROP;
+	Evaluation cur = f(x, rprop ? CostFunction::kCost : CostFunction::kNormal);
 	Eigen::Vector3d best = x;
 	double bestCost = cur.cost;
 	unsigned it = 0;
@@ -214,7 +232,8 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 	{
 		// iRprop−: each parameter has its own step that grows while the gradient
 		// keeps its sign and shrinks when it flips; only the sign of the gradient
-		// is used, which makes it insensitive to the scale of the cost.
+		// is used, which makes it insensitive to the scale of the cost. It can
+		// overshoot, so the best pose seen is the answer.
 		Eigen::Vector3d step(options.rpropInitialStepXY, options.rpropInitialStepXY, options.rpropInitialStepPhi);
 		const Eigen::Vector3d maxStep(options.rpropMaxStepXY, options.rpropMaxStepXY, options.rpropMaxStepPhi);
 		const Eigen::Vector3d minStep(options.minStepXY, options.minStepXY, options.minStepPhi);
@@ -235,13 +254,17 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 				x[k] -= sign(g[k]) * step[k];
 			}
 			prevGrad = g;
-			cur = f(x, false);
+			cur = f(x, CostFunction::kCost);
 			if (cur.cost < bestCost)
 			{
 				bestCost = cur.cost;
 				best = x;
 			}
-			if ((step.array() < minStep.array()).all()) break;
+			if ((step.array() < minStep.array()).all())
+			{
+				++it;
+				break;
+			}
 		}
 	}
 	else
@@ -255,7 +278,7 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 			const Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
 			if (!dx.allFinite()) break;
 			const Eigen::Vector3d xn = x + dx;
-			Evaluation next = f(xn, true);
+			Evaluation next = f(xn, CostFunction::kNormal);
 			if (options.optimizer == Optimizer::LevenbergMarquardt)
 			{
 				if (next.kernelCost > cur.kernelCost)
@@ -268,11 +291,6 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 			}
 			x = xn;
 			cur = next;
-			if (cur.cost < bestCost)
-			{
-				bestCost = cur.cost;
-				best = x;
-			}
 			if (std::abs(dx[0]) < options.minStepXY && std::abs(dx[1]) < options.minStepXY &&
 				std::abs(dx[2]) < options.minStepPhi)
 			{
@@ -280,11 +298,10 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 				break;
 			}
 		}
-		// GN/LM minimise the kernel's cost; report where they ended, not the PM-cost best.
 		best = x;
 	}
 
-	const Evaluation fin = f(best, false);
+	const Evaluation fin = f(best, CostFunction::kCurvature);
 	if (info)
 	{
 		info->nIterations = it;

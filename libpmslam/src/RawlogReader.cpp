@@ -33,31 +33,6 @@ double stampToDouble(const mrpt::system::TTimeStamp& t)
 	return t == INVALID_TIMESTAMP ? 0.0 : mrpt::Clock::toDouble(t);
 }
 
-/** One line out of an (MRPT) exception text. */
-std::string oneLineReason(const std::string& what)
-{
-	std::istringstream ss(what);
-	std::string l, best;
-	while (std::getline(ss, l))
-	{
-		const auto b = l.find_first_not_of(" \t\r");
-		if (b == std::string::npos) continue;
-		l = l.substr(b);
-		if (l.rfind("====", 0) == 0) continue;
-		if (l.rfind("Message:", 0) == 0)
-		{
-			l = l.substr(8);
-			const auto b2 = l.find_first_not_of(" \t");
-			best = b2 == std::string::npos ? std::string() : l.substr(b2);
-			break;
-		}
-		if (best.empty()) best = l;
-	}
-	while (!best.empty() && (best.back() == '\r' || best.back() == ' ')) best.pop_back();
-	if (best.size() > 160) best = best.substr(0, 157) + "...";
-	return best.empty() ? std::string("unknown error") : best;
-}
-
 /** carmen2rawlog signature: label FLASER/RLASER and MRPT's aperture = N × 0.5°. */
 bool hasCarmenImportGeometry(const mrpt::obs::CObservation2DRangeScan& s)
 {
@@ -102,7 +77,8 @@ std::uint64_t contentSize(const std::string& path)
 	if (!f.read(reinterpret_cast<char*>(t), 4)) return size;
 	const std::uint64_t isize = std::uint64_t(t[0]) | (std::uint64_t(t[1]) << 8) | (std::uint64_t(t[2]) << 16) |
 								(std::uint64_t(t[3]) << 24);
-	return isize >= size ? isize : size;  // smaller: > 4 GiB wrapped, or a damaged trailer
+	// Smaller than the file: > 4 GiB wrapped; implausibly large: not a trailer (damaged copy).
+	return (isize >= size && isize <= 50 * size) ? isize : size;
 }
 
 }  // namespace
@@ -219,7 +195,7 @@ bool RawlogReader::next(LogEvent& ev)
 		}
 		catch (const std::exception& e)
 		{
-			failure = oneLineReason(e.what());
+			failure = exceptionSummary(e.what());
 		}
 		catch (...)
 		{

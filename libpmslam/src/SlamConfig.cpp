@@ -53,6 +53,7 @@ const Key kKeys[] = {
 	{"MappingApplication", "hitProbability", Type::Number},
 	{"MappingApplication", "missProbability", Type::Number},
 	{"MappingApplication", "clampProbability", Type::Number},
+	{"MappingApplication", "joinHitsCloserThan", Type::Number},
 	{"MappingApplication", "minRange", Type::Number},
 	{"MappingApplication", "maxHitRange", Type::Number},
 	{"MappingApplication", "noReturnCarveRange", Type::Number},

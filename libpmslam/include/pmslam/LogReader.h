@@ -123,6 +123,9 @@ class LogReader
 	explicit LogReader(std::string path);
 	/** Counts the warning and hands it to onWarning. */
 	void warn(const std::string& message);
+	/** One line out of an (MRPT, possibly nested) exception text: the
+	 * innermost message, prefixed by the outermost class being deserialized. */
+	static std::string exceptionSummary(const std::string& what);
 
 	std::string m_path;
 	LogReadStats m_stats;

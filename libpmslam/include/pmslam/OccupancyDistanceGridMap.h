@@ -37,6 +37,11 @@ struct OccupancyGridUpdateOptions : public mrpt::config::CLoadableOptions
 	double hitProbability = 0.7;  ///< inverse sensor model for a return
 	double missProbability = 0.4;  ///< inverse sensor model for a beam passing through
 	double clampProbability = 0.95;	 ///< evidence bound, both ways
+	/** Consecutive returns closer than this (m) are joined: the cells between them get
+	 * hit evidence too. A laser samples a wall at spots that spread with range; joining
+	 * them keeps far walls solid instead of dotted, so a later scan is not pulled toward
+	 * the dots (which biases the estimated motion toward zero). 0 disables. */
+	double joinHitsCloserThan = 0.0;
 	ScanPointsOptions scan;	 ///< min/max ranges and free-space carving of no-return beams
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
