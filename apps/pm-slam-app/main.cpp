@@ -135,6 +135,8 @@ struct ScanTiming
 {
 	double timestamp, matchMs, updateMs;
 	bool matched, inserted;
+	unsigned iterations;
+	double goodness;
 };
 
 void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& slam, const pmslam::Trajectory& traj,
@@ -144,12 +146,12 @@ void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& sla
 	const auto at = [&](const char* name) { return (fs::path(dir) / name).string(); };
 	pmslam::saveTrajectory(at("trajectory.txt"), traj, header + "\nposes of the robot base in the map frame (m, m, rad)");
 	pmslam::writeFileAtomically(at("timing.txt"), [&](std::ostream& out) {
-		out << "# " << header << "\n# timestamp match_ms update_ms total_ms matched inserted\n";
-		char line[160];
+		out << "# " << header << "\n# timestamp match_ms update_ms total_ms matched inserted iterations goodness\n";
+		char line[200];
 		for (const auto& t : timing)
 		{
-			std::snprintf(line, sizeof line, "%.6f %.4f %.4f %.4f %d %d\n", t.timestamp, t.matchMs, t.updateMs,
-						  t.matchMs + t.updateMs, int(t.matched), int(t.inserted));
+			std::snprintf(line, sizeof line, "%.6f %.4f %.4f %.4f %d %d %u %.4f\n", t.timestamp, t.matchMs, t.updateMs,
+						  t.matchMs + t.updateMs, int(t.matched), int(t.inserted), t.iterations, t.goodness);
 			out << line;
 		}
 	});
@@ -242,7 +244,8 @@ int main(int argc, char** argv)
 			if (ev.scanHasOdometry && cfg.odometrySource != pmslam::OdometrySource::Events) odo = ev.scanOdometry;
 			const auto& r = slam.processScan(*ev.scan, odo);
 			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
-			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.matched, r.inserted});
+			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.matched, r.inserted, r.info.nIterations,
+							  r.info.goodness});
 			progress.update(traj.size());
 			if (window && std::chrono::steady_clock::now() - lastGui > std::chrono::milliseconds(500))
 			{

@@ -229,16 +229,10 @@ void mrptParse(const std::string& line, std::size_t n, mrpt::obs::CObservation2D
 {
 	std::istringstream ss(line);
 	std::vector<mrpt::obs::CObservation::Ptr> obs;
-	try
-	{
-		// The time origin is irrelevant: MRPT 2.5.8 does not keep the
-		// ipc_timestamp anyway, it is set from the line below.
-		mrpt::obs::carmen_log_parse_line(ss, obs, mrpt::Clock::fromDouble(0.0));
-	}
-	catch (const std::exception& e)
-	{
-		throw SkipLine{"MRPT's Carmen importer rejected the line (" + exceptionSummary(e.what()) + ")"};
-	}
+	// The time origin is irrelevant: MRPT 2.5.8 does not keep the
+	// ipc_timestamp anyway, it is set from the line afterwards. Throws on
+	// lines it cannot parse.
+	mrpt::obs::carmen_log_parse_line(ss, obs, mrpt::Clock::fromDouble(0.0));
 	for (const auto& o : obs)
 	{
 		if (!o) continue;
@@ -408,7 +402,14 @@ bool CarmenLogReader::next(LogEvent& ev)
 			// ---- MRPT's importer, then the corrections ----
 			mrpt::obs::CObservation2DRangeScan::Ptr scan;
 			mrpt::obs::CObservationOdometry::Ptr odo;
-			mrptParse(line, n, scan, odo);
+			try
+			{
+				mrptParse(line, n, scan, odo);
+			}
+			catch (const std::exception& e)
+			{
+				throw SkipLine{"MRPT's Carmen importer rejected the line (" + exceptionSummary(e.what()) + ")"};
+			}
 			for (std::size_t i = 0; i < n; ++i)
 				if (std::abs(scan->getScanRange(i) - r[i]) > 1e-5f * std::max(1.0f, r[i]))
 					throw SkipLine{"MRPT's Carmen importer read beam " + std::to_string(i) + " as " +

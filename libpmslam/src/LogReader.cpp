@@ -154,7 +154,7 @@ bool looksLikeText(const std::string& head)
 }
 
 /** True if the file starts with an MRPT-serialized rawlog object; else the reason. */
-bool startsWithRawlogObject(const std::string& path, std::string& reason)
+bool startsWithRawlogObject(const std::string& path, std::string& reason, bool& exceptionText)
 {
 	try
 	{
@@ -175,7 +175,8 @@ bool startsWithRawlogObject(const std::string& path, std::string& reason)
 	}
 	catch (const std::exception& e)
 	{
-		reason = "first object unreadable: " + LogReader::exceptionSummary(e.what());
+		reason = e.what();
+		exceptionText = true;
 		return false;
 	}
 }
@@ -210,7 +211,9 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 	std::string why;
 	if (!text || ext == ".rawlog")
 	{
-		if (startsWithRawlogObject(path, why)) return std::make_unique<RawlogReader>(path, opts);
+		bool exceptionText = false;
+		if (startsWithRawlogObject(path, why, exceptionText)) return std::make_unique<RawlogReader>(path, opts);
+		if (exceptionText) why = "first object unreadable: " + exceptionSummary(why);
 		if (ext == ".rawlog") throw LogError("pmslam: '" + path + "' is not a readable MRPT rawlog (" + why + ")");
 	}
 	// 3. Extension: a text file named like a Carmen log.

@@ -76,6 +76,8 @@ void PerfectMatchAligner::TConfigParams::loadFromConfigFile(const mrpt::config::
 	rpropDecrease = c.read_double(s, "rpropDecrease", rpropDecrease);
 	rpropMaxStepXY = c.read_double(s, "rpropMaxStepXY", rpropMaxStepXY);
 	rpropMaxStepPhi = c.read_double(s, "rpropMaxStepPhi", rpropMaxStepPhi);
+	rpropRefineIterations =
+		static_cast<unsigned>(c.read_int(s, "rpropRefineIterations", static_cast<int>(rpropRefineIterations)));
 	minStepXY = c.read_double(s, "minStepXY", minStepXY);
 	minStepPhi = c.read_double(s, "minStepPhi", minStepPhi);
 	decimation = static_cast<unsigned>(c.read_int(s, "decimation", static_cast<int>(decimation)));
@@ -90,6 +92,7 @@ void PerfectMatchAligner::TConfigParams::loadFromConfigFile(const mrpt::config::
 	requireRange("rpropDecrease", rpropDecrease, 0.01, 1.0);
 	requireRange("rpropMaxStepXY", rpropMaxStepXY, 1e-6, 10);
 	requireRange("rpropMaxStepPhi", rpropMaxStepPhi, 1e-6, 3);
+	requireRange("rpropRefineIterations", rpropRefineIterations, 0, 100);
 	requireRange("minStepXY", minStepXY, 0, 1);
 	requireRange("minStepPhi", minStepPhi, 0, 1);
 	requireRange("decimation", decimation, 1, 1000);
@@ -104,6 +107,7 @@ void PerfectMatchAligner::TConfigParams::dumpToTextStream(std::ostream& out) con
 		<< "\nrpropInitialStepXY = " << rpropInitialStepXY << "\nrpropInitialStepPhi = " << rpropInitialStepPhi
 		<< "\nrpropIncrease = " << rpropIncrease << "\nrpropDecrease = " << rpropDecrease
 		<< "\nrpropMaxStepXY = " << rpropMaxStepXY << "\nrpropMaxStepPhi = " << rpropMaxStepPhi
+		<< "\nrpropRefineIterations = " << rpropRefineIterations
 		<< "\nminStepXY = " << minStepXY << "\nminStepPhi = " << minStepPhi << "\ndecimation = " << decimation
 		<< "\nmaxDistance = " << maxDistance << "\noccupiedThreshold = " << occupiedThreshold << "\n";
 }
@@ -223,17 +227,53 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 	const CostFunction f(map, points, options);
 	Eigen::Vector3d x(initial.x, initial.y, initial.phi);
 	const bool rprop = options.optimizer == Optimizer::RPROP;
-	Evaluation cur = f(x, rprop ? CostFunction::kCost : CostFunction::kNormal);
-	Eigen::Vector3d best = x;
-	double bestCost = cur.cost;
 	unsigned it = 0;
 
-	if (options.optimizer == Optimizer::RPROP)
+	// Damped (LM) or plain Gauss-Newton on the weighted normal equations, from x.
+	auto gaussNewton = [&](Eigen::Vector3d x, unsigned maxIterations, bool damped) {
+		Evaluation cur = f(x, CostFunction::kNormal);
+		double lambda = damped ? 1e-3 : 0.0;
+		for (unsigned k = 0; k < maxIterations; ++k, ++it)
+		{
+			Eigen::Matrix3d A = cur.JtWJ;
+			if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
+			A.diagonal().array() += 1e-9;
+			const Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
+			if (!dx.allFinite()) break;
+			const Eigen::Vector3d xn = x + dx;
+			Evaluation next = f(xn, CostFunction::kNormal);
+			if (damped)
+			{
+				if (next.kernelCost > cur.kernelCost)
+				{
+					lambda *= 10;
+					if (lambda > 1e8) break;
+					continue;
+				}
+				lambda = std::max(1e-7, lambda / 10);
+			}
+			x = xn;
+			cur = next;
+			if (std::abs(dx[0]) < options.minStepXY && std::abs(dx[1]) < options.minStepXY &&
+				std::abs(dx[2]) < options.minStepPhi)
+			{
+				++it;
+				break;
+			}
+		}
+		return x;
+	};
+
+	Eigen::Vector3d best(initial.x, initial.y, initial.phi);
+	if (rprop)
 	{
 		// iRprop−: each parameter has its own step that grows while the gradient
 		// keeps its sign and shrinks when it flips; only the sign of the gradient
 		// is used, which makes it insensitive to the scale of the cost. It can
 		// overshoot, so the best pose seen is the answer.
+		Eigen::Vector3d x = best;
+		Evaluation cur = f(x, CostFunction::kCost);
+		double bestCost = cur.cost;
 		Eigen::Vector3d step(options.rpropInitialStepXY, options.rpropInitialStepXY, options.rpropInitialStepPhi);
 		const Eigen::Vector3d maxStep(options.rpropMaxStepXY, options.rpropMaxStepXY, options.rpropMaxStepPhi);
 		const Eigen::Vector3d minStep(options.minStepXY, options.minStepXY, options.minStepPhi);
@@ -266,40 +306,17 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 				break;
 			}
 		}
+		// RPROP finds the basin; its sign-only steps end in a small oscillation. A few
+		// Gauss-Newton steps on the same cost land on the minimum itself, and are kept
+		// only if the cost agrees.
+		if (options.rpropRefineIterations > 0)
+		{
+			const Eigen::Vector3d refined = gaussNewton(best, options.rpropRefineIterations, false);
+			if (f(refined, CostFunction::kCost).cost <= bestCost) best = refined;
+		}
 	}
 	else
-	{
-		double lambda = options.optimizer == Optimizer::LevenbergMarquardt ? 1e-3 : 0.0;
-		for (it = 0; it < options.maxIterations; ++it)
-		{
-			Eigen::Matrix3d A = cur.JtWJ;
-			if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
-			A.diagonal().array() += 1e-9;
-			const Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
-			if (!dx.allFinite()) break;
-			const Eigen::Vector3d xn = x + dx;
-			Evaluation next = f(xn, CostFunction::kNormal);
-			if (options.optimizer == Optimizer::LevenbergMarquardt)
-			{
-				if (next.kernelCost > cur.kernelCost)
-				{
-					lambda *= 10;
-					if (lambda > 1e8) break;
-					continue;
-				}
-				lambda = std::max(1e-7, lambda / 10);
-			}
-			x = xn;
-			cur = next;
-			if (std::abs(dx[0]) < options.minStepXY && std::abs(dx[1]) < options.minStepXY &&
-				std::abs(dx[2]) < options.minStepPhi)
-			{
-				++it;
-				break;
-			}
-		}
-		best = x;
-	}
+		best = gaussNewton(best, options.maxIterations, options.optimizer == Optimizer::LevenbergMarquardt);
 
 	const Evaluation fin = f(best, CostFunction::kCurvature);
 	if (info)

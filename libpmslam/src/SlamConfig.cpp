@@ -38,6 +38,7 @@ const Key kKeys[] = {
 	{"PerfectMatch", "rpropDecrease", Type::Number},
 	{"PerfectMatch", "rpropMaxStepXY", Type::Number},
 	{"PerfectMatch", "rpropMaxStepPhi", Type::Number},
+	{"PerfectMatch", "rpropRefineIterations", Type::Integer},
 	{"PerfectMatch", "minStepXY", Type::Number},
 	{"PerfectMatch", "minStepPhi", Type::Number},
 	{"PerfectMatch", "decimation", Type::Integer},

@@ -63,6 +63,8 @@ class PerfectMatchAligner : public mrpt::slam::CMetricMapsAlignmentAlgorithm
 		double rpropInitialStepPhi = 0.01;	///< first RPROP step in θ (rad)
 		double rpropIncrease = 1.2, rpropDecrease = 0.5;  ///< RPROP step factors η+, η−
 		double rpropMaxStepXY = 0.2, rpropMaxStepPhi = 0.1;	 ///< RPROP step bounds (m, rad)
+		/** Gauss-Newton steps on the same cost after RPROP, to settle on the minimum (0 = pure RPROP). */
+		unsigned rpropRefineIterations = 0;
 		double minStepXY = 1e-5, minStepPhi = 1e-5;	 ///< converged when every step is below these
 		unsigned decimation = 1;  ///< use every k-th point of m2
 		/** For a stock COccupancyGridMap2D: truncation (m) of the distance layer
