@@ -59,7 +59,8 @@ if [ -x /usr/bin/time ] && /usr/bin/time -v true >/dev/null 2>&1; then have_time
 
 rm -rf "$work"
 mkdir -p "$work" "$results"
-rm -f "$results"/*.png "$results/results.md"
+for d in "${names[@]}"; do rm -f "$results/${d}_trajectory.png" "$results/${d}_errors.png" "$results/${d}_time_per_scan.png"; done
+rm -f "$results/results.md"
 
 # --- helpers ------------------------------------------------------------------------------------------------------
 # json_num KEY FILE: a number from pm-slam-eval --json (flat object)
@@ -159,9 +160,10 @@ for d in "${present[@]}"; do
     n=$(wc -l <"$o/trans_sorted.txt")
     t="$(label "$s")"; c=$(color "$s")
     traj_plot+=("'$o/xy.txt' using 1:2 with lines lw 1.2 lc rgb '$c' title '$t'")
-    err_t+=("'$o/trans_sorted.txt' using (\$1/$n):(\$2 > 0 ? \$2 : 1e-5) with lines lw 2 lc rgb '$c' title '$t'")
-    err_r+=("'$o/rot_sorted.txt' using (\$1/$n):(\$2 > 0 ? \$2 : 1e-4) with lines lw 2 lc rgb '$c' title '$t'")
-    time_plot+=("'$o/time_per_scan.txt' using 1:(\$2 > 0.001 ? \$2 : 0.001) with dots lc rgb '$c' title '$t'")
+    err_t+=("'$o/trans_sorted.txt' using (\$1/$n):(\$2 > 1e-4 ? \$2 : 1e-4) with lines lw 2 lc rgb '$c' title '$t'")
+    err_r+=("'$o/rot_sorted.txt' using (\$1/$n):(\$2 > 1e-3 ? \$2 : 1e-3) with lines lw 2 lc rgb '$c' title '$t'")
+    time_plot+=("'$o/time_per_scan.txt' using 1:(\$2 > 0.001 ? \$2 : 0.001) with dots lc rgb '$c' notitle")
+    time_plot+=("NaN with lines lw 4 lc rgb '$c' title '$t'")
   done
   [ ${#traj_plot[@]} -gt 0 ] || continue
   gnuplot <<EOF
@@ -177,15 +179,17 @@ EOF
   gnuplot <<EOF
 $plot_term
 set output '$results/${d}_errors.png'
-set multiplot layout 1,2 title "$d: relative pose errors per relation, sorted (Kuemmerle et al. metric)"
-set key top left
+set multiplot layout 1,2 title "$d: relative pose errors per relation, sorted (Kuemmerle et al. metric; floored at 0.1 mm / 0.001 deg)"
+set key bottom right
 set grid
 set logscale y
 set xlabel 'fraction of relations'
 set ylabel 'translational error [m]'
 set format y '%g'
+set yrange [1e-4:*]
 plot $(join "${err_t[@]}")
 set ylabel 'rotational error [deg]'
+set yrange [1e-3:*]
 plot $(join "${err_r[@]}")
 unset multiplot
 EOF

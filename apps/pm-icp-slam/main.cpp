@@ -139,13 +139,22 @@ double peakRssMB()
 	return ru.ru_maxrss / 1024.0;  // Linux reports KiB
 }
 
-/** The first line of an MRPT exception text (they span several lines). */
+/** One line out of an exception text: MRPT's span several lines (banner,
+ * message, location, call stack); keep the message only. */
 std::string oneLine(const std::string& what)
 {
-	std::string s = what;
-	for (char& c : s)
-		if (c == '\n' || c == '\r') c = ' ';
-	while (s.find("  ") != std::string::npos) s.replace(s.find("  "), 2, " ");
+	std::string s;
+	for (const char c : what)
+	{
+		const char d = (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
+		if (d == ' ' && (s.empty() || s.back() == ' ')) continue;
+		s += d;
+	}
+	if (const auto m = s.find("Message:"); m != std::string::npos) s = s.substr(m + 8);
+	for (const char* cut : {" Location:", " Call stack", " ===="})
+		if (const auto k = s.find(cut); k != std::string::npos) s.resize(k);
+	while (!s.empty() && s.front() == ' ') s.erase(s.begin());
+	while (!s.empty() && s.back() == ' ') s.pop_back();
 	return s;
 }
 
@@ -233,7 +242,9 @@ int main(int argc, char** argv)
 	}
 	catch (const std::exception& e)
 	{
-		std::cerr << kProg << ": " << oneLine(e.what()) << "\n";
+		const std::string msg = oneLine(e.what());
+		if (msg.rfind("--config", 0) == 0) std::cerr << kProg << ": " << msg << "\n";
+		else std::cerr << kProg << ": --config " << args.config << ": " << msg << "\n";
 		return 2;
 	}
 	if (!cfg.verbositySet)

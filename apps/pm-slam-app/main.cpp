@@ -60,7 +60,15 @@ configuration, 1 failure while running, 130 interrupted (outputs still written).
 )";
 
 std::atomic<bool> g_stop{false};
-void onSignal(int) { g_stop = true; }
+void onSignal(int sig)
+{
+	if (g_stop)
+	{  // a second Ctrl-C / SIGTERM: stop now, without writing outputs
+		std::signal(sig, SIG_DFL);
+		std::raise(sig);
+	}
+	g_stop = true;
+}
 
 struct Args
 {
@@ -168,12 +176,26 @@ void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& sla
 
 int main(int argc, char** argv)
 {
+	// Installed first, so that a signal at any time ends with exit code 130 and outputs.
+	std::signal(SIGINT, onSignal);
+	std::signal(SIGTERM, onSignal);
 	const Args args = parseArgs(argc, argv);
 
 	pmslam::SlamConfig cfg;
 	try
 	{
 		cfg = pmslam::loadSlamConfig(args.config, args.sets);
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << "pm-slam-app: " << e.what() << "\n";
+		return 2;
+	}
+	// The log first: a bad LOG must not leave an empty --out folder behind.
+	std::unique_ptr<pmslam::LogReader> reader;
+	try
+	{
+		reader = pmslam::LogReader::open(args.log, cfg.log);
 	}
 	catch (const std::exception& e)
 	{
@@ -187,16 +209,6 @@ int main(int argc, char** argv)
 	catch (const std::exception& e)
 	{
 		std::cerr << "pm-slam-app: --out " << args.out << ": " << e.what() << "\n";
-		return 2;
-	}
-	std::unique_ptr<pmslam::LogReader> reader;
-	try
-	{
-		reader = pmslam::LogReader::open(args.log, cfg.log);
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << "pm-slam-app: " << e.what() << "\n";
 		return 2;
 	}
 
@@ -220,9 +232,6 @@ int main(int argc, char** argv)
 		else
 			window = mrpt::gui::CDisplayWindow::Create("pm-slam-app: " + args.log);
 	}
-
-	std::signal(SIGINT, onSignal);
-	std::signal(SIGTERM, onSignal);
 
 	pmslam::Trajectory traj;
 	std::vector<ScanTiming> timing;
@@ -263,6 +272,14 @@ int main(int argc, char** argv)
 	progress.clear();
 	const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
+	if (traj.empty() && !g_stop && !failed)
+	{
+		const auto& st = reader->stats();
+		std::cerr << "pm-slam-app: no laser scan in '" << args.log << "' (" << st.linesOrObjects
+				  << " lines/objects read, " << st.skipped
+				  << " skipped): expected FLASER/RLASER/ROBOTLASER1 lines or CObservation2DRangeScan objects\n";
+		return 2;
+	}
 	if (g_stop) std::cerr << "pm-slam-app: interrupted after " << traj.size() << " scans: writing what was computed\n";
 	if (failed)
 		std::cerr << "pm-slam-app: error after " << traj.size() << " scans: " << failure
@@ -279,6 +296,9 @@ int main(int argc, char** argv)
 		std::cerr << "pm-slam-app: cannot write outputs to " << args.out << ": " << e.what() << "\n";
 		return 1;
 	}
+	if (g_stop || failed)
+		std::cerr << "pm-slam-app: wrote the map and the trajectory of " << traj.size() << " scans to " << args.out
+				  << "\n";
 
 	if (!args.quiet)
 	{

@@ -129,7 +129,10 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 				++m_matched;
 			}
 		}
-		const bool insert = options.enableMapUpdating && (m_mapEmpty || moved) && !pts.hits.empty();
+		// A rejected match is not inserted either: its pose is only the odometry guess,
+		// and a scan at a wrong pose would corrupt the map for every later match.
+		const bool rejected = !m_mapEmpty && !r.matched;
+		const bool insert = options.enableMapUpdating && (m_mapEmpty || moved) && !pts.hits.empty() && !rejected;
 		if (insert)
 		{
 			const auto t0 = Clock::now();

@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -188,6 +190,8 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 	namespace fs = std::filesystem;
 	std::error_code ec;
 	const auto st = fs::status(path, ec);
+	if (!path.empty() && ec && st.type() == fs::file_type::none)  // e.g. a folder on the way is not searchable
+		throw LogError("pmslam: cannot access log file '" + path + "' (" + ec.message() + "), " + kExpected);
 	if (path.empty() || !fs::exists(st)) throw LogError("pmslam: log file '" + path + "' does not exist (" + kExpected + ")");
 	if (fs::is_directory(st)) throw LogError("pmslam: '" + path + "' is a directory, " + kExpected);
 	if (!fs::is_regular_file(st)) throw LogError("pmslam: '" + path + "' is not a regular file, " + kExpected);
@@ -195,9 +199,15 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 	if (ec) throw LogError("pmslam: cannot read log file '" + path + "' (" + ec.message() + "), " + kExpected);
 	if (size == 0) throw LogError("pmslam: log file '" + path + "' is empty, " + kExpected);
 	{
+		errno = 0;
 		std::ifstream probe(path, std::ios::binary);
 		char c;
-		if (!probe || !probe.get(c)) throw LogError("pmslam: cannot read log file '" + path + "', " + kExpected);
+		if (!probe || !probe.get(c))
+		{
+			const int err = errno;
+			throw LogError("pmslam: cannot read log file '" + path + "'" +
+						   (err != 0 ? " (" + std::string(std::strerror(err)) + ")" : std::string()) + ", " + kExpected);
+		}
 	}
 
 	const std::string head = readHead(path, 1 << 16);

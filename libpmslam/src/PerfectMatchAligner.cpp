@@ -238,9 +238,9 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 			Eigen::Matrix3d A = cur.JtWJ;
 			if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
 			A.diagonal().array() += 1e-9;
-			const Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
+			Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
 			if (!dx.allFinite()) break;
-			const Eigen::Vector3d xn = x + dx;
+			Eigen::Vector3d xn = x + dx;
 			Evaluation next = f(xn, CostFunction::kNormal);
 			if (damped)
 			{
@@ -251,6 +251,20 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 					continue;
 				}
 				lambda = std::max(1e-7, lambda / 10);
+			}
+			else
+			{
+				// A full Gauss-Newton step can overshoot into another basin where the
+				// linearisation is poor: halve it until the cost does not increase.
+				int halvings = 0;
+				while (next.kernelCost > cur.kernelCost && halvings < 4)
+				{
+					dx *= 0.5;
+					xn = x + dx;
+					next = f(xn, CostFunction::kNormal);
+					++halvings;
+				}
+				if (next.kernelCost > cur.kernelCost) break;  // no descent left: at the minimum
 			}
 			x = xn;
 			cur = next;

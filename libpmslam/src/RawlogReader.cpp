@@ -247,6 +247,18 @@ bool RawlogReader::next(LogEvent& ev)
 					}
 					applyCarmenGeometry(*scan, d.opts.noReturnRange);
 				}
+				bool anyValid = false;
+				for (std::size_t i = 0; i < scan->getScanSize() && !anyValid; ++i)
+				{
+					const float r = scan->getScanRange(i);
+					anyValid = scan->getScanRangeValidity(i) && std::isfinite(r) && r > 0.0f;
+				}
+				if (!anyValid)
+				{  // as for Carmen lines: nothing to match or map
+					++m_stats.skipped;
+					warn(m_path + ": object " + std::to_string(d.objects) + ": scan has no valid beam, skipped");
+					return;
+				}
 				LogEvent e;
 				e.kind = LogEvent::Kind::Scan;
 				e.timestamp = stampToDouble(scan->timestamp);

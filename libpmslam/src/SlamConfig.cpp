@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -79,6 +80,15 @@ std::size_t editDistance(const std::string& a, const std::string& b)
 
 std::string closest(const std::string& word, const std::vector<std::string>& candidates)
 {
+	// A candidate the word is an abbreviation of ("Mapping" -> "MappingApplication") wins;
+	// otherwise the smallest edit distance.
+	const auto lowerCase = [](std::string s) {
+		std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+		return s;
+	};
+	if (word.size() >= 3)
+		for (const auto& c : candidates)
+			if (lowerCase(c).rfind(lowerCase(word), 0) == 0) return c;
 	std::string best;
 	std::size_t bestD = std::string::npos;
 	for (const auto& c : candidates)
@@ -96,6 +106,11 @@ std::string trim(const std::string& s)
 bool isNumber(const std::string& v, bool integer)
 {
 	if (v.empty()) return false;
+	if (integer)
+	{  // counts: plain digits (MRPT's read_int would read "1e3" as 1 and "-5" as a huge unsigned)
+		if (v.size() > 9 || v.find_first_not_of("0123456789") != std::string::npos) return false;
+		return true;
+	}
 	char* end = nullptr;
 	const double d = std::strtod(v.c_str(), &end);
 	if (end == v.c_str() || *end != '\0') return false;
@@ -115,7 +130,7 @@ const char* describe(Type t)
 	switch (t)
 	{
 		case Type::Number: return "a number";
-		case Type::Integer: return "a whole number";
+		case Type::Integer: return "a whole number >= 0";
 		case Type::Bool: return "true or false";
 		case Type::Word: return "a word";
 	}
@@ -211,10 +226,14 @@ SlamConfig parseSlamConfig(const std::string& iniText, const std::string& source
 SlamConfig loadSlamConfig(const std::string& iniPath, const std::vector<std::string>& overrides)
 {
 	if (iniPath.empty()) return parseSlamConfig("", "defaults", overrides);
+	std::error_code ec;
+	if (std::filesystem::is_directory(iniPath, ec))
+		throw ConfigError(iniPath + ": is a directory (expected an INI file)");
 	std::ifstream in(iniPath);
 	if (!in) throw ConfigError(iniPath + ": cannot open configuration file (expected an INI file)");
 	std::stringstream ss;
 	ss << in.rdbuf();
+	if (in.bad()) throw ConfigError(iniPath + ": cannot read configuration file (expected an INI file)");
 	return parseSlamConfig(ss.str(), iniPath, overrides);
 }
 

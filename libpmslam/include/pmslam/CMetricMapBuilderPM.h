@@ -36,8 +36,8 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 {
 	double insertionLinDistance = 0.01;	 ///< match + insert once the robot moved this far (m)...
 	double insertionAngDistance = 0.5;	///< ...or turned this much (rad) since the last insertion
-	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected and the
-	 * odometry prediction kept (0 accepts every match). */
+	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected: the scan
+	 * keeps the odometry prediction and is not inserted (0 accepts every match). */
 	double minGoodness = 0.0;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
