@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 			bool anyValid = false;
 			for (std::size_t i = 0; i < ev.scan->getScanSize(); ++i) anyValid |= ev.scan->getScanRangeValidity(i);
 			if (!anyValid) pmslam::fuzz::fail("Carmen scan without a valid beam delivered");
-			if (!(ev.scan->maxRange > 0) || ev.scan->maxRange > opts.noReturnRange)
+			if (!(ev.scan->maxRange > 0) || ev.scan->maxRange > static_cast<float>(opts.noReturnRange))
 				pmslam::fuzz::fail("Carmen scan maxRange outside (0, noReturnRange]");
 		}
 		++events;

@@ -52,7 +52,7 @@ for t in "${targets[@]}"; do
     status=1
     continue
   fi
-  grep -E "^stat::number_of_executed_runs|^stat::peak_rss_mb" "$work/$t.log" | tr '\n' ' ' | sed 's/^/  /'
+  grep -E "^stat::number_of_executed_units|^stat::average_exec_per_sec|^stat::peak_rss_mb" "$work/$t.log" | tr '\n' ' ' | sed 's/^/  /'
   echo
 done
 exit "$status"

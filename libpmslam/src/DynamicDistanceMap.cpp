@@ -33,7 +33,7 @@ constexpr int kNeighbours[8][2] = {{-1, -1}, {0, -1}, {1, -1}, {-1, 0},
 }  // namespace
 
 DynamicDistanceMap::DynamicDistanceMap(double resolution, double maxDistance)
-	: m_resolution(resolution), m_maxDistance(maxDistance)
+	: m_resolution(resolution), m_maxDistance(maxDistance), m_invResolution(1.0 / resolution)
 {
 	if (!(resolution > 0) || !std::isfinite(resolution))
 		throw std::invalid_argument("DynamicDistanceMap: resolution must be > 0, got " + std::to_string(resolution));
@@ -263,16 +263,19 @@ float DynamicDistanceMap::cellDistance(int cx, int cy) const
 
 float DynamicDistanceMap::distanceAt(double x, double y, double* gradX, double* gradY) const
 {
-	const double u = x / m_resolution - 0.5, v = y / m_resolution - 0.5;
-	const double fu = std::floor(u), fv = std::floor(v);
-	// Far outside anything representable: answer the truncation.
-	if (!(std::abs(fu) < 1e9 && std::abs(fv) < 1e9))
+	const double u = x * m_invResolution - 0.5, v = y * m_invResolution - 0.5;
+	// Far outside anything representable (or NaN): answer the truncation.
+	if (!(std::abs(u) < 1e9 && std::abs(v) < 1e9))
 	{
 		if (gradX) *gradX = 0;
 		if (gradY) *gradY = 0;
 		return static_cast<float>(m_maxDistance);
 	}
-	const int i0 = static_cast<int>(fu), j0 = static_cast<int>(fv);
+	// floor() without a libm call: truncate, then step down for negative fractions.
+	int i0 = static_cast<int>(u), j0 = static_cast<int>(v);
+	i0 -= u < i0;
+	j0 -= v < j0;
+	const double fu = i0, fv = j0;
 	const double ax = u - fu, ay = v - fv;
 	float d00, d10, d01, d11;
 	const float far = static_cast<float>(m_maxDistance);
@@ -305,8 +308,8 @@ float DynamicDistanceMap::distanceAt(double x, double y, double* gradX, double* 
 		d11 = cellDistance(i0 + 1, j0 + 1);
 	}
 	const double top = d00 + ax * (d10 - d00), bottom = d01 + ax * (d11 - d01);
-	if (gradX) *gradX = ((d10 - d00) * (1 - ay) + (d11 - d01) * ay) / m_resolution;
-	if (gradY) *gradY = (bottom - top) / m_resolution;
+	if (gradX) *gradX = ((d10 - d00) * (1 - ay) + (d11 - d01) * ay) * m_invResolution;
+	if (gradY) *gradY = (bottom - top) * m_invResolution;
 	return static_cast<float>(top + ay * (bottom - top));
 }
 

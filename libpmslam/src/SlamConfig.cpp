@@ -190,8 +190,20 @@ std::vector<std::string> knownConfigKeys()
 	return out;
 }
 
-SlamConfig parseSlamConfig(const std::string& iniText, const std::string& sourceName,
-						   const std::vector<std::string>& overrides)
+namespace
+{
+/** One line out of a (possibly multi-line) exception message. */
+std::string oneLine(const std::string& what)
+{
+	std::string s;
+	for (char ch : what) s += (ch == '\n' || ch == '\r') ? ' ' : ch;
+	s = trim(s);
+	if (s.size() > 200) s = s.substr(0, 197) + "...";
+	return s;
+}
+
+SlamConfig parseChecked(const std::string& iniText, const std::string& sourceName,
+						const std::vector<std::string>& overrides)
 {
 	mrpt::config::CConfigFileMemory cfg(iniText);
 	for (const auto& o : overrides)
@@ -221,6 +233,24 @@ SlamConfig parseSlamConfig(const std::string& iniText, const std::string& source
 		throw ConfigError(where + ": " + e.what());
 	}
 	return c;
+}
+}  // namespace
+
+SlamConfig parseSlamConfig(const std::string& iniText, const std::string& sourceName,
+						   const std::vector<std::string>& overrides)
+{
+	try
+	{
+		return parseChecked(iniText, sourceName, overrides);
+	}
+	catch (const ConfigError&)
+	{
+		throw;
+	}
+	catch (const std::exception& e)
+	{  // MRPT's INI reader itself (e.g. its ${...}/$eval{...} expansion) rejected the text
+		throw ConfigError(sourceName + ": " + oneLine(e.what()));
+	}
 }
 
 SlamConfig loadSlamConfig(const std::string& iniPath, const std::vector<std::string>& overrides)

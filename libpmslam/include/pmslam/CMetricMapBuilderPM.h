@@ -35,10 +35,13 @@ namespace pmslam
 struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 {
 	double insertionLinDistance = 0.01;	 ///< match + insert once the robot moved this far (m)...
-	double insertionAngDistance = 0.5;	///< ...or turned this much (rad) since the last insertion
+	/** ...or turned this much (rad) since the last insertion. The paper used 0.5 rad; turning
+	 * in place then leaves up to 28° to odometry alone, and a laser 20 m from a wall sees a 5°
+	 * odometry error as 1.7 m, beyond the distance map's reach. 2° keeps every match local. */
+	double insertionAngDistance = 2.0 * M_PI / 180.0;
 	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected: the scan
-	 * keeps the odometry prediction and is not inserted (0 accepts every match). */
-	double minGoodness = 0.0;
+	 * keeps the odometry prediction and is not inserted (0 accepts every match). A good match scores 0.8–0.98. */
+	double minGoodness = 0.3;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */

@@ -93,6 +93,7 @@ class DynamicDistanceMap
 	void lower(int cx, int cy, const Cell& c);
 
 	double m_resolution, m_maxDistance;
+	double m_invResolution;	 // multiplications are cheaper than divisions in distanceAt()
 	int m_maxSq;
 	std::vector<float> m_sqrtLut;  // metres for squared distances 0..m_maxSq
 

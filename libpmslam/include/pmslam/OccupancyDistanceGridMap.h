@@ -35,7 +35,7 @@ struct OccupancyGridUpdateOptions : public mrpt::config::CLoadableOptions
 	double resolution = 0.05;  ///< cell side (m)
 	double maxDistance = 0.5;  ///< distance-map truncation (m)
 	double hitProbability = 0.7;  ///< inverse sensor model for a return
-	double missProbability = 0.4;  ///< inverse sensor model for a beam passing through
+	double missProbability = 0.45;  ///< inverse sensor model for a beam passing through
 	double clampProbability = 0.95;	 ///< evidence bound, both ways
 	/** Consecutive returns closer than this (m) are joined: the cells between them get
 	 * hit evidence too. A laser samples a wall at spots that spread with range; joining

@@ -57,15 +57,15 @@ class PerfectMatchAligner : public mrpt::slam::CMetricMapsAlignmentAlgorithm
 	{
 		Optimizer optimizer = Optimizer::RPROP;
 		RobustKernel robustKernel = RobustKernel::PerfectMatch;
-		double sigma = 0.05;  ///< σ of the likelihood field (m)
-		unsigned maxIterations = 40;  ///< optimiser iterations at most
+		double sigma = 0.1;	 ///< σ of the likelihood field (m)
+		unsigned maxIterations = 60;  ///< optimiser iterations at most
 		double rpropInitialStepXY = 0.01;  ///< first RPROP step in x, y (m)
 		double rpropInitialStepPhi = 0.01;	///< first RPROP step in θ (rad)
 		double rpropIncrease = 1.2, rpropDecrease = 0.5;  ///< RPROP step factors η+, η−
 		double rpropMaxStepXY = 0.2, rpropMaxStepPhi = 0.1;	 ///< RPROP step bounds (m, rad)
 		/** Gauss-Newton steps on the same cost after RPROP, to settle on the minimum (0 = pure RPROP). */
 		unsigned rpropRefineIterations = 0;
-		double minStepXY = 1e-5, minStepPhi = 1e-5;	 ///< converged when every step is below these
+		double minStepXY = 1e-4, minStepPhi = 1e-4;	 ///< converged when every step is below these
 		unsigned decimation = 1;  ///< use every k-th point of m2
 		/** For a stock COccupancyGridMap2D: truncation (m) of the distance layer
 		 * built on demand, and the occupancy probability above which a cell is an obstacle. */
