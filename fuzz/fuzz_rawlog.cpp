@@ -4,11 +4,60 @@
 #include <pmslam/LogReader.h>
 #include <pmslam/RawlogReader.h>
 
+#include <malloc.h>
+
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
+#include <new>
 
 #include "FuzzSupport.h"
+
+// MRPT's deserialisation trusts the lengths it reads (a damaged string or vector
+// length asks for gigabytes), and under AddressSanitizer a failing `new` aborts
+// instead of throwing. Here an allocation above kAllocLimit, or one that takes
+// the live total beyond kLiveLimit, throws std::bad_alloc as on a machine without
+// overcommit, so the fuzzer checks that the reader turns that into a damage
+// warning rather than reporting MRPT's trust in its input.
+// (Every unaligned form is replaced, so that new/delete pairs stay matched;
+// over-aligned allocations keep the sanitizer's own operators.)
+namespace
+{
+constexpr std::size_t kAllocLimit = std::size_t(256) << 20;	// one allocation
+constexpr std::size_t kLiveLimit = std::size_t(1) << 30;  // all of them (a count of small objects, e.g. a deque)
+std::atomic<std::size_t> g_live{0};
+
+void* tryAllocate(std::size_t n) noexcept
+{
+	if (n > kAllocLimit || g_live.load() + n > kLiveLimit) return nullptr;
+	void* p = std::malloc(n ? n : 1);
+	if (p) g_live += ::malloc_usable_size(p);
+	return p;
+}
+void* allocate(std::size_t n)
+{
+	if (void* p = tryAllocate(n)) return p;
+	throw std::bad_alloc();
+}
+void release(void* p) noexcept
+{
+	if (!p) return;
+	g_live -= ::malloc_usable_size(p);
+	std::free(p);
+}
+}  // namespace
+void* operator new(std::size_t n) { return allocate(n); }
+void* operator new[](std::size_t n) { return allocate(n); }
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return tryAllocate(n); }
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return tryAllocate(n); }
+void operator delete(void* p) noexcept { release(p); }
+void operator delete[](void* p) noexcept { release(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete(void* p, std::size_t) noexcept { release(p); }
+void operator delete[](void* p, std::size_t) noexcept { release(p); }
 
 namespace
 {

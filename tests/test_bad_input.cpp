@@ -82,6 +82,18 @@ std::vector<std::string> lines(const std::string& text)
 	return v;
 }
 
+/** `line` with its whitespace-separated field `i` replaced by `value`. */
+std::string withField(const std::string& line, std::size_t i, const std::string& value)
+{
+	std::istringstream in(line);
+	std::vector<std::string> f;
+	for (std::string w; in >> w;) f.push_back(w);
+	f.at(i) = value;
+	std::string out;
+	for (const auto& w : f) out += (out.empty() ? "" : " ") + w;
+	return out;
+}
+
 std::string join(const std::vector<std::string>& v)
 {
 	std::string s;
@@ -200,6 +212,9 @@ TEST(BadInput, ConfigWrongTypeAndOutOfRange)
 	expectRefusal(app("--set sigma" + tail), {"--set 'sigma'", "expected SECTION.KEY=VALUE"});
 	const auto ini = d.write("bad.ini", "[MappingApplication]\nminGoodness = 2\n");
 	expectRefusal(app("--config " + quote(ini) + tail), {ini, "minGoodness", "expected 0..1"});
+	// MRPT's own INI syntax errors (its $eval{...} expansion) are configuration errors too.
+	const auto ini2 = d.write("eval.ini", "[PerfectMatch]\nsigma = $eval{0.05\n");
+	expectRefusal(app("--config " + quote(ini2) + tail), {ini2 + ": "});
 }
 
 TEST(BadInput, ConfigFileMissingOrADirectory)
@@ -244,16 +259,20 @@ TEST(BadInput, MalformedCarmenLinesAreSkippedCountedAndNamed)
 	v[20] = v[20].substr(0, v[20].size() / 2);	// truncated line
 	v[30].replace(v[30].find(' ', 12), 1, " x");	// a non-numeric range
 	v[40] = "FLASER 4 81.9 81.9 0 81.9 0 0 0 0 0 0 1004.000000 nohost 1004.000000";  // no valid beam
+	// FLASER 181: fields 183..185 laser pose, 186..188 odometry pose.
+	v[44] = withField(v[44], 186, "1e300");	 // finite, but no robot is there
+	v[46] = withField(v[46], 183, "500.0");	 // a laser 500 m from the robot base
 	v.insert(v.begin() + 50, "\x01\x02 binary junk \xff");	// unknown keyword: ignored silently
 	const auto log = d.write("damaged.clf", join(v));
 	const auto out = d.path("out");
 	const auto r = app("--no-progress --out " + quote(out) + " " + quote(log));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
-	for (const char* n : {":11: beam count 180 disagrees", ":21: ", ":31: non-numeric range", ":41: scan has no valid beam"})
+	for (const char* n : {":11: beam count 180 disagrees", ":21: ", ":31: non-numeric range", ":41: scan has no valid beam",
+						  ":45: implausible odometry pose", ":47: laser pose 5"})
 		EXPECT_TRUE(contains(r.output, "warning: " + log + n)) << n << "\n" << r.output;
-	EXPECT_TRUE(contains(r.output, ", skipped 4, warnings 4")) << r.output;
-	EXPECT_EQ(summaryScans(r.output), 56u) << r.output;
-	expectCompleteOutputs(out, 56);
+	EXPECT_TRUE(contains(r.output, ", skipped 6, warnings 6")) << r.output;
+	EXPECT_EQ(summaryScans(r.output), 54u) << r.output;
+	expectCompleteOutputs(out, 54);
 }
 
 namespace

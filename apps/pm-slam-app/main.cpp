@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -48,6 +49,10 @@ options (before or after LOG):
   --set SECTION.KEY=VALUE override one configuration key (repeatable)
   --out DIR               output folder (default ./pmslam-out)
   --max-scans N           stop after N scans (0 = all)
+  --localize MAP          track the robot on a fixed prior map (a .gridmap[.gz] written by pm-slam-app
+                          or any serialised MRPT COccupancyGridMap2D) without changing it; writes
+                          trajectory.txt, timing.txt and map.png (the fixed map with the path)
+  --initial-pose X,Y,YAW_DEG  start pose on the --localize map (m, m, degrees; default 0,0,0)
   --gui                   live view of map, scan and trajectory (needs a display)
   --progress / --no-progress  force the progress line on or off (default: on when stderr is a terminal)
   --quiet                 no summary, only warnings and errors
@@ -75,6 +80,8 @@ struct Args
 	std::string log, config, out = "pmslam-out";
 	std::vector<std::string> sets;
 	std::size_t maxScans = 0;
+	std::string localize;  // fixed map to localise on (empty: SLAM)
+	mrpt::math::TPose2D initialPose{0, 0, 0};
 	bool gui = false, quiet = false;
 	int progress = -1;	// -1 auto
 };
@@ -89,6 +96,7 @@ Args parseArgs(int argc, char** argv)
 {
 	Args a;
 	std::vector<std::string> positional;
+	bool initialPoseGiven = false;
 	for (int i = 1; i < argc; ++i)
 	{
 		const std::string s = argv[i];
@@ -112,6 +120,18 @@ Args parseArgs(int argc, char** argv)
 			if (end == v.c_str() || *end || n < 0) usageError("--max-scans '" + v + "': expected a whole number >= 0");
 			a.maxScans = static_cast<std::size_t>(n);
 		}
+		else if (s == "--localize") a.localize = value("--localize");
+		else if (s == "--initial-pose")
+		{
+			const std::string v = value("--initial-pose");
+			double x = 0, y = 0, yawDeg = 0;
+			char tail = 0;
+			if (std::sscanf(v.c_str(), "%lf,%lf,%lf%c", &x, &y, &yawDeg, &tail) != 3 ||
+				!std::isfinite(x + y + yawDeg))
+				usageError("--initial-pose '" + v + "': expected X,Y,YAW_DEG (m, m, degrees), e.g. 1.5,-2,90");
+			a.initialPose = {x, y, mrpt::DEG2RAD(yawDeg)};
+			initialPoseGiven = true;
+		}
 		else if (s == "--gui") a.gui = true;
 		else if (s == "--quiet") a.quiet = true;
 		else if (s == "--progress") a.progress = 1;
@@ -120,6 +140,7 @@ Args parseArgs(int argc, char** argv)
 		else positional.push_back(s);
 	}
 	if (positional.size() > 1) usageError("expected one LOG, got " + std::to_string(positional.size()));
+	if (initialPoseGiven && a.localize.empty()) usageError("--initial-pose needs --localize MAP");
 	a.log = positional.empty() ? kDefaultLog : positional[0];
 	return a;
 }
@@ -148,7 +169,7 @@ struct ScanTiming
 };
 
 void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& slam, const pmslam::Trajectory& traj,
-				  const std::vector<ScanTiming>& timing, const std::string& header)
+				  const std::vector<ScanTiming>& timing, const std::string& header, bool localizing)
 {
 	namespace fs = std::filesystem;
 	const auto at = [&](const char* name) { return (fs::path(dir) / name).string(); };
@@ -165,6 +186,7 @@ void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& sla
 	});
 	const auto& grid = slam.grid();
 	pmslam::saveMapPng(grid, traj, at("map.png"));
+	if (localizing) return;	 // the map is the fixed prior map: only the path over it is new
 	pmslam::saveMapPgmYaml(grid, at("map.pgm"), at("map.yaml"));
 	pmslam::saveGridMapGz(grid, at("map.gridmap.gz"));
 	mrpt::maps::CSimpleMap sm;
@@ -202,6 +224,20 @@ int main(int argc, char** argv)
 		std::cerr << "pm-slam-app: " << e.what() << "\n";
 		return 2;
 	}
+	// The prior map too (--localize), before --out is created.
+	mrpt::maps::COccupancyGridMap2D priorMap;
+	if (!args.localize.empty())
+	{
+		try
+		{
+			pmslam::loadGridMapGz(args.localize, priorMap);
+		}
+		catch (const std::exception& e)
+		{
+			std::cerr << "pm-slam-app: --localize " << e.what() << "\n";
+			return 2;
+		}
+	}
 	try
 	{
 		pmslam::checkDirectoryWritable(args.out);
@@ -223,6 +259,18 @@ int main(int argc, char** argv)
 	slam.PM_options = cfg.mapping;
 	slam.PM_params = cfg.matcher;
 	slam.initialize();
+	if (!args.localize.empty())
+	{
+		try
+		{
+			slam.initializeWithFixedMap(priorMap, args.initialPose);
+		}
+		catch (const std::exception& e)
+		{
+			std::cerr << "pm-slam-app: --localize " << args.localize << ": " << e.what() << "\n";
+			return 2;
+		}
+	}
 
 	mrpt::gui::CDisplayWindow::Ptr window;
 	if (args.gui)
@@ -287,9 +335,10 @@ int main(int argc, char** argv)
 
 	std::ostringstream header;
 	header << "pm-slam-app " << args.log << " (" << traj.size() << " scans)";
+	if (!args.localize.empty()) header << " localised on " << args.localize;
 	try
 	{
-		writeOutputs(args.out, slam, traj, timing, header.str());
+		writeOutputs(args.out, slam, traj, timing, header.str(), !args.localize.empty());
 	}
 	catch (const std::exception& e)
 	{
@@ -313,10 +362,18 @@ int main(int argc, char** argv)
 					traj.size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
 		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
 					total.empty() ? 0.0 : sumMs / total.size(), percentile(total, 0.5), percentile(total, 0.99));
-		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx, peak memory %.1f MB\n",
-					sumMs / 1000.0, wallS, sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0, peakRssMB());
-		std::printf("  map: %s/map.png (and map.pgm/.yaml, map.gridmap.gz, map.simplemap.gz), trajectory: %s/trajectory.txt\n",
-					args.out.c_str(), args.out.c_str());
+		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx\n", sumMs / 1000.0, wallS,
+					sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0);
+		// The process's peak includes MRPT's shared libraries (~100 MB mapped and relocated at
+		// start-up, before any data); the map's own memory is reported beside it.
+		std::printf("  peak memory %.1f MB (map: grid + distance layer %.1f MB)\n", peakRssMB(),
+					slam.grid().memoryBytes() / (1024.0 * 1024.0));
+		if (!args.localize.empty())
+			std::printf("  localised on %s (unchanged): %s/map.png, trajectory: %s/trajectory.txt\n",
+						args.localize.c_str(), args.out.c_str(), args.out.c_str());
+		else
+			std::printf("  map: %s/map.png (and map.pgm/.yaml, map.gridmap.gz, map.simplemap.gz), trajectory: %s/trajectory.txt\n",
+						args.out.c_str(), args.out.c_str());
 	}
 	if (window)
 	{

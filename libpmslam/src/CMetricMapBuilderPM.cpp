@@ -11,6 +11,7 @@
 #include <pmslam/CMetricMapBuilderPM.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -24,6 +25,9 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 		c.read_double(s, "insertionAngDistance_deg", mrpt::RAD2DEG(insertionAngDistance)));
 	minGoodness = c.read_double(s, "minGoodness", minGoodness);
 	minPoints = static_cast<unsigned>(c.read_int(s, "minPoints", static_cast<int>(minPoints)));
+	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
+	odometryPriorSigmaPhi =
+		mrpt::DEG2RAD(c.read_double(s, "odometryPriorSigmaPhi_deg", mrpt::RAD2DEG(odometryPriorSigmaPhi)));
 	keepSimpleMap = c.read_bool(s, "keepSimpleMap", keepSimpleMap);
 	grid.loadFromConfigFile(c, s);
 	auto need = [](bool ok, const std::string& what) {
@@ -32,6 +36,10 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(insertionLinDistance >= 0 && insertionLinDistance <= 100, "insertionLinDistance: expected 0..100 m");
 	need(insertionAngDistance >= 0 && insertionAngDistance <= 2 * M_PI, "insertionAngDistance_deg: expected 0..360");
 	need(minGoodness >= 0 && minGoodness <= 1, "minGoodness: expected 0..1");
+	need(odometryPriorSigmaXY >= 0, "odometryPriorSigmaXY: expected >= 0 m (0 = no prior)");
+	need(odometryPriorSigmaPhi >= 0, "odometryPriorSigmaPhi_deg: expected >= 0 (0 = no prior)");
+	need((odometryPriorSigmaXY > 0) == (odometryPriorSigmaPhi > 0),
+		 "odometryPriorSigmaXY and odometryPriorSigmaPhi_deg: set both (> 0) or neither (0)");
 	need(grid.resolution >= 0.005 && grid.resolution <= 2, "resolution: expected 0.005..2 m");
 	need(grid.maxDistance > grid.resolution && grid.maxDistance <= 10, "maxDistance: expected resolution..10 m");
 	need(grid.hitProbability > 0.5 && grid.hitProbability < 1, "hitProbability: expected (0.5, 1)");
@@ -46,7 +54,9 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 {
 	out << "insertionLinDistance = " << insertionLinDistance
 		<< "\ninsertionAngDistance_deg = " << mrpt::RAD2DEG(insertionAngDistance) << "\nminGoodness = " << minGoodness
-		<< "\nminPoints = " << minPoints << "\nkeepSimpleMap = " << keepSimpleMap << "\n";
+		<< "\nminPoints = " << minPoints << "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
+		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi) << "\nkeepSimpleMap = " << keepSimpleMap
+		<< "\n";
 	grid.dumpToTextStream(out);
 }
 
@@ -120,7 +130,12 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 		if (!m_mapEmpty && (moved || !options.enableMapUpdating) && pts.hits.size() >= PM_options.minPoints)
 		{
 			const auto t0 = Clock::now();
-			const mrpt::math::TPose2D est = m_aligner.alignPoints(m_grid->distanceMap(), pts.hits, r.predicted, &r.info);
+			std::optional<PerfectMatchAligner::PosePrior> prior;
+			if (PM_options.odometryPriorSigmaXY > 0 && PM_options.odometryPriorSigmaPhi > 0)
+				prior = PerfectMatchAligner::PosePrior::diagonal(r.predicted, PM_options.odometryPriorSigmaXY,
+																 PM_options.odometryPriorSigmaPhi);
+			const mrpt::math::TPose2D est = m_aligner.alignPoints(m_grid->distanceMap(), pts.hits, r.predicted,
+																   &r.info, nullptr, prior ? &*prior : nullptr);
 			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 			if (r.info.goodness >= PM_options.minGoodness)
 			{
@@ -204,6 +219,64 @@ const mrpt::maps::CMultiMetricMap* CMetricMapBuilderPM::getCurrentlyBuiltMetricM
 void CMetricMapBuilderPM::saveCurrentEstimationToImage(const std::string& file, bool)
 {
 	if (!m_grid->saveAsBitmapFile(file)) throw std::runtime_error("cannot write map image '" + file + "'");
+}
+
+void CMetricMapBuilderPM::initializeWithFixedMap(const mrpt::maps::COccupancyGridMap2D& grid,
+												 const mrpt::math::TPose2D& initialPose)
+{
+	const double r = grid.getResolution();
+	const unsigned sx = grid.getSizeX(), sy = grid.getSizeY();
+	if (!(r > 0) || sx == 0 || sy == 0)
+		throw std::invalid_argument("CMetricMapBuilderPM::initializeWithFixedMap: empty grid");
+	const auto& cells = grid.getRawMap();
+	// MRPT stores the log-odds of a cell being free: negative = occupancy above 0.5.
+	if (std::none_of(cells.begin(), cells.end(), [](auto c) { return c < 0; }))
+		throw std::invalid_argument("CMetricMapBuilderPM::initializeWithFixedMap: the grid has no occupied cell");
+
+	const mrpt::poses::CPosePDFGaussian x0{mrpt::poses::CPose2D(initialPose)};
+	initialize(mrpt::maps::CSimpleMap(), &x0);
+
+	std::lock_guard<std::mutex> lock(critZoneChangingMap);
+	OccupancyGridUpdateOptions o = PM_options.grid;
+	o.resolution = r;
+	o.maxDistance = std::max(o.maxDistance, 2 * r);
+	auto fixed = std::make_shared<OccupancyDistanceGridMap>(o);
+	// The distance layer's cell (i, j) is [i·r, (i+1)·r) × [j·r, (j+1)·r): the grid's origin must be
+	// a multiple of r. Grids made by MRPT's setSize() and by pmslam are; then the cells are copied as
+	// they are. Otherwise the same cells are put on the nearest lattice origin (a shift < r/2).
+	const double ax = std::round(grid.getXMin() / r) * r, ay = std::round(grid.getYMin() / r) * r;
+	m_fixedMapShift = {ax - grid.getXMin(), ay - grid.getYMin()};
+	if (std::abs(m_fixedMapShift.x) <= 1e-3 * r && std::abs(m_fixedMapShift.y) <= 1e-3 * r)
+	{
+		m_fixedMapShift = {0, 0};
+		static_cast<mrpt::maps::COccupancyGridMap2D&>(*fixed) = grid;  // cells, extent, resolution
+	}
+	else
+	{
+		MRPT_LOG_WARN_FMT(
+			"fixed map origin (%.6f, %.6f) is not a multiple of its resolution %.4f m: map shifted by (%.4f, %.4f) m",
+			grid.getXMin(), grid.getYMin(), r, m_fixedMapShift.x, m_fixedMapShift.y);
+		fixed->setSize(static_cast<float>(ax), static_cast<float>(ax + sx * r), static_cast<float>(ay),
+					   static_cast<float>(ay + sy * r), static_cast<float>(r), 0.5f);
+		if (fixed->getSizeX() != sx || fixed->getSizeY() != sy)
+			throw std::logic_error("CMetricMapBuilderPM::initializeWithFixedMap: shifted grid has a different size");
+		// Cells go through their probability (the raw setter is not public); keep each cell's side
+		// of 0.5 exactly, as that is what makes it an obstacle.
+		for (unsigned y = 0; y < sy; ++y)
+			for (unsigned x = 0; x < sx; ++x)
+			{
+				const auto c = cells[std::size_t(y) * sx + x];
+				const float pFree = grid.getCell(x, y);
+				fixed->setCell(x, y, c < 0 ? std::min(pFree, 0.45f) : c > 0 ? std::max(pFree, 0.55f) : 0.5f);
+			}
+	}
+	fixed->rebuildDistanceMap();
+
+	m_grid = std::move(fixed);
+	m_metricMap.maps.clear();
+	m_metricMap.maps.push_back(m_grid);
+	m_mapEmpty = false;
+	options.enableMapUpdating = false;
 }
 
 }  // namespace pmslam

@@ -22,6 +22,11 @@ namespace pmslam
 namespace
 {
 constexpr std::size_t kMaxBeams = 100000;
+/** Pose fields beyond these are damage, not a robot: |x|, |y| in m (Earth scale), |theta| in rad. */
+constexpr double kMaxCoordinate = 1e7;
+constexpr double kMaxHeading = 1e3;
+/** A laser farther than this from the robot base (m) is not mounted on it. */
+constexpr double kMaxSensorOffset = 100.0;
 constexpr std::size_t kChunk = 1 << 16;
 
 /** Reads a (possibly gz-compressed) text file line by line. */
@@ -163,6 +168,13 @@ struct CarmenLogReader::Impl
 			if (v < 0) throw SkipLine{"negative range '" + t + "' (beam " + std::to_string(i) + ")"};
 			out[i] = static_cast<float>(v);
 		}
+	}
+
+	void checkPose(const mrpt::math::TPose2D& p, const char* what) const
+	{
+		if (std::abs(p.x) > kMaxCoordinate || std::abs(p.y) > kMaxCoordinate || std::abs(p.phi) > kMaxHeading)
+			throw SkipLine{std::string("implausible ") + what + " (" + fmt6(p.x) + ", " + fmt6(p.y) + ", " +
+						   fmt6(p.phi) + ")"};
 	}
 
 	void checkTimestamp(double ts) const
@@ -322,6 +334,7 @@ bool CarmenLogReader::next(LogEvent& ev)
 				LogEvent e;
 				e.kind = LogEvent::Kind::Odometry;
 				e.odometry = mrpt::math::TPose2D(d.number(1, "x"), d.number(2, "y"), d.number(3, "theta"));
+				d.checkPose(e.odometry, "odometry pose");
 				for (std::size_t i = 4; i <= 6; ++i) d.number(i, "velocity field");
 				e.timestamp = d.number(7, "ipc_timestamp");
 				d.number(9, "logger_timestamp");
@@ -398,6 +411,11 @@ bool CarmenLogReader::next(LogEvent& ev)
 			const double ts = d.number(tsAt, "ipc_timestamp");
 			d.number(tsAt + 2, "logger_timestamp");
 			d.checkTimestamp(ts);
+			d.checkPose(laser, "laser pose");
+			d.checkPose(robot, "odometry pose");
+			const mrpt::poses::CPose2D rel(mrpt::poses::CPose2D(laser) - mrpt::poses::CPose2D(robot));
+			if (std::hypot(rel.x(), rel.y()) > kMaxSensorOffset)
+				throw SkipLine{"laser pose " + fmt6(std::hypot(rel.x(), rel.y())) + " m away from the odometry pose"};
 
 			// ---- MRPT's importer, then the corrections ----
 			mrpt::obs::CObservation2DRangeScan::Ptr scan;
@@ -416,7 +434,6 @@ bool CarmenLogReader::next(LogEvent& ev)
 								   fmt6(scan->getScanRange(i)) + " instead of " + f[(isRobotLaser ? 9 : 2) + i]};
 			// MRPT computes the sensor offset as laser ⊖ odometry, i.e. the
 			// laser pose in the robot frame: right, kept (x, y, yaw).
-			const mrpt::poses::CPose2D rel(mrpt::poses::CPose2D(laser) - mrpt::poses::CPose2D(robot));
 			const auto& sp = scan->sensorPose;
 			if (std::abs(sp.x() - rel.x()) > 1e-4 || std::abs(sp.y() - rel.y()) > 1e-4)
 				throw SkipLine{"MRPT's Carmen importer computed a different sensor offset"};

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 namespace pmslam
@@ -84,6 +85,7 @@ void PerfectMatchAligner::TConfigParams::loadFromConfigFile(const mrpt::config::
 	decimation = static_cast<unsigned>(c.read_int(s, "decimation", static_cast<int>(decimation)));
 	maxDistance = c.read_double(s, "maxDistance", maxDistance);
 	occupiedThreshold = c.read_double(s, "occupiedThreshold", occupiedThreshold);
+	useInitialCovarianceAsPrior = c.read_bool(s, "useInitialCovarianceAsPrior", useInitialCovarianceAsPrior);
 
 	requireRange("sigma", sigma, 1e-4, 10);
 	requireRange("maxIterations", maxIterations, 1, 10000);
@@ -110,7 +112,8 @@ void PerfectMatchAligner::TConfigParams::dumpToTextStream(std::ostream& out) con
 		<< "\nrpropMaxStepXY = " << rpropMaxStepXY << "\nrpropMaxStepPhi = " << rpropMaxStepPhi
 		<< "\nrpropRefineIterations = " << rpropRefineIterations
 		<< "\nminStepXY = " << minStepXY << "\nminStepPhi = " << minStepPhi << "\ndecimation = " << decimation
-		<< "\nmaxDistance = " << maxDistance << "\noccupiedThreshold = " << occupiedThreshold << "\n";
+		<< "\nmaxDistance = " << maxDistance << "\noccupiedThreshold = " << occupiedThreshold
+		<< "\nuseInitialCovarianceAsPrior = " << useInitialCovarianceAsPrior << "\n";
 }
 
 namespace
@@ -149,9 +152,9 @@ class CostFunction
 {
    public:
 	CostFunction(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& pts,
-				 const PerfectMatchAligner::TConfigParams& o)
+				 const PerfectMatchAligner::TConfigParams& o, const PerfectMatchAligner::PosePrior* prior = nullptr)
 		: m_map(map), m_pts(pts), m_step(std::max(1u, o.decimation)), m_s2(o.sigma * o.sigma), m_sigma(o.sigma),
-		  m_kernel(o.robustKernel), m_far(map.maxDistance() * (1.0 - 1e-6))
+		  m_kernel(o.robustKernel), m_far(map.maxDistance() * (1.0 - 1e-6)), m_prior(prior)
 	{
 	}
 
@@ -216,7 +219,28 @@ class CostFunction
 			}
 		}
 		e.gradient = Eigen::Vector3d(g0, g1, g2);
+		if (m_prior) addPrior(x, need, e);
 		return e;
+	}
+
+	// ½ eᵀ Λ e with e = x − mean. The normal equations above approximate (σ²/2)·cost, so the
+	// prior enters them with the same factor.
+	void addPrior(const Eigen::Vector3d& x, unsigned need, Evaluation& e) const
+	{
+		const Eigen::Vector3d err(x[0] - m_prior->mean.x, x[1] - m_prior->mean.y,
+								  std::remainder(x[2] - m_prior->mean.phi, 2 * M_PI));
+		const Eigen::Matrix3d& L = m_prior->information;
+		const Eigen::Vector3d Le = L * err;
+		const double p = 0.5 * err.dot(Le);
+		e.cost += p;
+		e.kernelCost += p;
+		e.gradient += Le;
+		if (need & kCurvature) e.hessian += L;
+		if (need & kNormal)
+		{
+			e.JtWJ += 0.5 * m_s2 * L;
+			e.JtWr += 0.5 * m_s2 * Le;
+		}
 	}
 
    private:
@@ -226,11 +250,21 @@ class CostFunction
 	const double m_s2, m_sigma;
 	const PerfectMatchAligner::RobustKernel m_kernel;
 	const double m_far;
+	const PerfectMatchAligner::PosePrior* m_prior;
 };
 
 
 
 }  // namespace
+
+PerfectMatchAligner::PosePrior PerfectMatchAligner::PosePrior::diagonal(const mrpt::math::TPose2D& mean,
+																		  double sigmaXY, double sigmaPhi)
+{
+	PosePrior p;
+	p.mean = mean;
+	p.information.diagonal() << 1.0 / (sigmaXY * sigmaXY), 1.0 / (sigmaXY * sigmaXY), 1.0 / (sigmaPhi * sigmaPhi);
+	return p;
+}
 
 double PerfectMatchAligner::cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
 								 const mrpt::math::TPose2D& pose) const
@@ -243,9 +277,9 @@ double PerfectMatchAligner::cost(const DynamicDistanceMap& map, const std::vecto
 mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& map,
 													 const std::vector<mrpt::math::TPoint2Df>& points,
 													 const mrpt::math::TPose2D& initial, TReturnInfo* info,
-													 Eigen::Matrix3d* covariance) const
+													 Eigen::Matrix3d* covariance, const PosePrior* prior) const
 {
-	const CostFunction f(map, points, options);
+	const CostFunction f(map, points, options, prior);
 	Eigen::Vector3d x(initial.x, initial.y, initial.phi);
 	const bool rprop = options.optimizer == Optimizer::RPROP;
 	unsigned it = 0;
@@ -463,8 +497,20 @@ mrpt::poses::CPosePDF::Ptr PerfectMatchAligner::AlignPDF(const mrpt::maps::CMetr
 	if (outInfo)
 		info = dynamic_cast<TReturnInfo*>(&outInfo.value().get());
 	if (!info) info = &local;
+	std::optional<PosePrior> prior;
+	if (options.useInitialCovarianceAsPrior)
+	{
+		Eigen::Matrix3d C;
+		for (int r = 0; r < 3; ++r)
+			for (int c = 0; c < 3; ++c) C(r, c) = initialEstimationPDF.cov(r, c);
+		const Eigen::LDLT<Eigen::Matrix3d> ldlt(C);
+		if (ldlt.info() == Eigen::Success && ldlt.isPositive() && (ldlt.vectorD().array() > 0).all())
+		{
+			prior = PosePrior{init, C.inverse()};
+		}
+	}
 	Eigen::Matrix3d cov;
-	mrpt::math::TPose2D result = alignPoints(*layer, points, init, info, &cov);
+	mrpt::math::TPose2D result = alignPoints(*layer, points, init, info, &cov, prior ? &*prior : nullptr);
 	result.x += shiftX;
 	result.y += shiftY;
 

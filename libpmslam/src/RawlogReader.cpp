@@ -81,6 +81,28 @@ std::uint64_t contentSize(const std::string& path)
 	return (isize >= size && isize <= 50 * size) ? isize : size;
 }
 
+/** Poses beyond these are damage, not a robot (as in CarmenLogReader.cpp). */
+constexpr double kMaxCoordinate = 1e7;	// m
+constexpr double kMaxHeading = 1e3;	 // rad
+constexpr double kMaxSensorOffset = 100.0;	// m
+
+bool plausible(const mrpt::math::TPose2D& p)
+{
+	return std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate && std::abs(p.phi) <= kMaxHeading;
+}
+
+/** Empty if the scan's geometry is usable, else why not. */
+std::string badGeometry(const mrpt::obs::CObservation2DRangeScan& s)
+{
+	const auto& p = s.sensorPose;
+	for (double v : {p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll()})
+		if (!std::isfinite(v)) return "non-finite sensor pose";
+	if (std::hypot(p.x(), p.y()) > kMaxSensorOffset || std::abs(p.z()) > kMaxSensorOffset)
+		return "sensor pose more than 100 m from the robot";
+	if (!std::isfinite(s.aperture) || std::abs(s.aperture) > 100.0) return "implausible aperture";
+	return {};
+}
+
 }  // namespace
 
 struct RawlogReader::Impl
@@ -247,6 +269,12 @@ bool RawlogReader::next(LogEvent& ev)
 					}
 					applyCarmenGeometry(*scan, d.opts.noReturnRange);
 				}
+				if (const std::string why = badGeometry(*scan); !why.empty())
+				{
+					++m_stats.skipped;
+					warn(m_path + ": object " + std::to_string(d.objects) + ": scan with " + why + ", skipped");
+					return;
+				}
 				bool anyValid = false;
 				for (std::size_t i = 0; i < scan->getScanSize() && !anyValid; ++i)
 				{
@@ -268,6 +296,12 @@ bool RawlogReader::next(LogEvent& ev)
 			}
 			else if (auto od = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o))
 			{
+				if (!plausible(od->odometry.asTPose()))	 // NaN fails too
+				{
+					++m_stats.skipped;
+					warn(m_path + ": object " + std::to_string(d.objects) + ": implausible odometry pose, skipped");
+					return;
+				}
 				LogEvent e;
 				e.kind = LogEvent::Kind::Odometry;
 				e.timestamp = stampToDouble(od->timestamp);
@@ -281,7 +315,14 @@ bool RawlogReader::next(LogEvent& ev)
 		{
 			d.flushHeld(d.lastTs);
 			const auto mv = ac->getBestMovementEstimation();
-			if (mv && mv->poseChange)
+			const bool usable = mv && mv->poseChange && plausible(mv->poseChange->getMeanVal().asTPose()) &&
+								plausible((d.odom + mv->poseChange->getMeanVal()).asTPose());
+			if (mv && mv->poseChange && !usable)
+			{
+				++m_stats.skipped;
+				warn(m_path + ": object " + std::to_string(d.objects) + ": implausible odometry increment, skipped");
+			}
+			if (usable)
 			{
 				d.odom = d.odom + mv->poseChange->getMeanVal();
 				LogEvent e;

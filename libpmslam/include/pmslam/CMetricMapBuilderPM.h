@@ -20,6 +20,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/slam/CMetricMapBuilder.h>
@@ -42,6 +43,11 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected: the scan
 	 * keeps the odometry prediction and is not inserted (0 accepts every match). A good match scores 0.8–0.98. */
 	double minGoodness = 0.3;
+	/** Odometry prior of each match: standard deviations (m, rad) of the prediction's error
+	 * (0 = no prior, the plain PM cost). Along directions the scan cannot see (a corridor)
+	 * the pose then stays where odometry put it instead of sliding. */
+	double odometryPriorSigmaXY = 0.0;
+	double odometryPriorSigmaPhi = 0.0;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
@@ -76,6 +82,25 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	/** Resets; optionally starts from an existing map (its scans are re-inserted) and pose x0. */
 	void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
 					const mrpt::poses::CPosePDF* x0 = nullptr) override;
+	/** Localisation on a prior map: resets the builder, loads `grid` (any COccupancyGridMap2D,
+	 * e.g. read from a .gridmap.gz written by pm-slam-app or by MRPT) as the fixed map, puts the
+	 * robot at `initialPose` (robot base in the grid's frame; m, m, rad) and turns map updating
+	 * off (options.enableMapUpdating = false): from then on every scan with enough returns is
+	 * matched against the fixed map starting from the odometry prediction, and nothing is inserted
+	 * (the keyframe CSimpleMap stays empty). Cells with occupancy above 0.5 are the obstacles.
+	 *
+	 * The map keeps the grid's own resolution (PM_options.grid.resolution is not used; the
+	 * distance truncation PM_options.grid.maxDistance is, at least two cells). The distance layer
+	 * needs cell boundaries on multiples of the resolution; a grid whose origin is off that lattice
+	 * (e.g. loaded from an image with an arbitrary origin) is moved onto the nearest lattice
+	 * position, i.e. shifted by less than half a cell per axis, with a warning through the logger.
+	 * Throws std::invalid_argument for an empty grid or one without any occupied cell.
+	 * To map again afterwards: set options.enableMapUpdating = true and call initialize(). */
+	void initializeWithFixedMap(const mrpt::maps::COccupancyGridMap2D& grid, const mrpt::math::TPose2D& initialPose);
+	/** Sub-cell shift (m) applied to the last fixed map to put it on the resolution lattice
+	 * (zero for every grid pmslam or MRPT's setSize() made). */
+	mrpt::math::TPoint2D fixedMapShift() const { return m_fixedMapShift; }
+
 	mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const override;
 	void processActionObservation(mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& in_SF) override;
 	void getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const override;
@@ -113,6 +138,7 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	bool m_mapEmpty = true;
 	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0;
 	ScanResult m_last;
+	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
 };
 
 }  // namespace pmslam

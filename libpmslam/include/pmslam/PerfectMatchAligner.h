@@ -71,6 +71,9 @@ class PerfectMatchAligner : public mrpt::slam::CMetricMapsAlignmentAlgorithm
 		 * built on demand, and the occupancy probability above which a cell is an obstacle. */
 		double maxDistance = 0.5;
 		double occupiedThreshold = 0.5;
+		/** AlignPDF only: use the initial estimate's covariance (if positive definite) as a
+		 * Gaussian prior on the pose. Off by default, as CICP ignores it. */
+		bool useInitialCovarianceAsPrior = false;
 
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void dumpToTextStream(std::ostream& out) const override;
@@ -102,11 +105,23 @@ class PerfectMatchAligner : public mrpt::slam::CMetricMapsAlignmentAlgorithm
 											mrpt::optional_ref<mrpt::slam::TMetricMapAlignmentResult> outInfo =
 												std::nullopt) override;
 
+	/** An optional Gaussian prior on the pose (e.g. the odometry prediction): adds
+	 * ½ eᵀ·information·e to the cost, e = pose − mean (angle wrapped). Where the scan
+	 * constrains the pose it barely matters; along a featureless corridor it keeps the
+	 * pose where odometry put it instead of letting it slide. */
+	struct PosePrior
+	{
+		mrpt::math::TPose2D mean;
+		Eigen::Matrix3d information = Eigen::Matrix3d::Zero();	///< inverse covariance (x, y, θ)
+		/** Diagonal prior from standard deviations (m, rad). */
+		static PosePrior diagonal(const mrpt::math::TPose2D& mean, double sigmaXY, double sigmaPhi);
+	};
+
 	/** The core, without MRPT map types: aligns `points` (robot frame) to `map`
 	 * starting at `initial`. Returns the pose; fills info and covariance if given. */
 	mrpt::math::TPose2D alignPoints(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
 									const mrpt::math::TPose2D& initial, TReturnInfo* info = nullptr,
-									Eigen::Matrix3d* covariance = nullptr) const;
+									Eigen::Matrix3d* covariance = nullptr, const PosePrior* prior = nullptr) const;
 
 	/** The PM cost Σ ln(1+Δ²/σ²) of `points` at `pose` (for tests and diagnostics). */
 	double cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,

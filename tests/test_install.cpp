@@ -1,0 +1,82 @@
+// pmslam as an installed package: `cmake --install` into a scratch prefix, then the stand-alone
+// project in share/examples/external-project is configured with find_package(pmslam) against that
+// prefix only, built (one small file) and run on MRPT's sample log.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "RunProgram.h"
+#include "SyntheticLogs.h"
+
+namespace fs = std::filesystem;
+using pmslam::testing::quote;
+using pmslam::testing::run;
+
+namespace
+{
+const std::string kCMake = PMSLAM_CMAKE_COMMAND;
+const std::string kSample = "/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+}  // namespace
+
+TEST(Install, ExternalProjectBuildsAgainstTheInstalledPackage)
+{
+#ifdef PMSLAM_SANITIZE
+	GTEST_SKIP() << "sanitizer build: the installed library needs the sanitizer runtime in every consumer";
+#endif
+	const auto t0 = std::chrono::steady_clock::now();
+	pmslam::testing::ScratchDir scratch("install");
+	const fs::path prefix = scratch.dir / "prefix";
+
+	auto r = run(quote(kCMake) + " --install " + quote(PMSLAM_BINARY_DIR) + " --prefix " + quote(prefix.string()));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	for (const char* f : {"include/pmslam/CMetricMapBuilderPM.h", "include/pmslam/PerfectMatchAligner.h",
+						  "include/pmslam/OccupancyDistanceGridMap.h", "include/pmslam/MapExport.h", "lib/libpmslam.a",
+						  "bin/pm-slam-app", "bin/pm-slam-eval", "share/pmslam/config/default.ini",
+						  "share/pmslam/examples/external-project/CMakeLists.txt",
+						  "share/pmslam/examples/replace-icp/main.cpp", "lib/cmake/pmslam/pmslamConfig.cmake",
+						  "lib/cmake/pmslam/pmslamConfigVersion.cmake", "lib/cmake/pmslam/pmslamTargets.cmake"})
+		EXPECT_TRUE(fs::exists(prefix / f)) << f << " not installed";
+	// The package refers to the prefix, never to the source or build tree.
+	for (const char* f : {"lib/cmake/pmslam/pmslamConfig.cmake", "lib/cmake/pmslam/pmslamTargets.cmake"})
+	{
+		const std::string text = pmslam::testing::readText(prefix / f);
+		EXPECT_EQ(text.find(PMSLAM_SOURCE_DIR "/"), std::string::npos) << f << " mentions the source tree";
+		EXPECT_EQ(text.find(PMSLAM_BINARY_DIR "/"), std::string::npos) << f << " mentions the build tree";
+	}
+	EXPECT_NE(pmslam::testing::readText(prefix / "lib/cmake/pmslam/pmslamTargets.cmake").find("pmslam::pmslam"),
+			  std::string::npos);
+	r = run(quote((prefix / "bin/pm-slam-app").string()) + " --help");
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+
+	// The external project, configured against the prefix alone.
+	const fs::path build = scratch.dir / "build";
+	r = run(quote(kCMake) + " -S " + quote(PMSLAM_SOURCE_DIR "/share/examples/external-project") + " -B " +
+			quote(build.string()) + " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + quote(prefix.string()) +
+			" -DCMAKE_CXX_COMPILER=" + quote(PMSLAM_CXX_COMPILER) + " -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const std::string cache = pmslam::testing::readText(build / "CMakeCache.txt");
+	EXPECT_NE(cache.find("pmslam_DIR:PATH=" + (prefix / "lib/cmake/pmslam").string()), std::string::npos)
+		<< "find_package(pmslam) did not pick the installed package";
+	r = run(quote(kCMake) + " --build " + quote(build.string()) + " -j2");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+
+	if (fs::exists(kSample))
+	{
+		r = run(quote((build / "map-a-rawlog").string()) + " " + quote(kSample) + " " +
+				quote((scratch.dir / "map.gridmap.gz").string()));
+		ASSERT_EQ(r.exitCode, 0) << r.output;
+		EXPECT_NE(r.output.find("scans 224, matched"), std::string::npos) << r.output;
+		EXPECT_GT(fs::file_size(scratch.dir / "map.gridmap.gz"), 1000u);
+	}
+	else
+	{
+		r = run(quote((build / "map-a-rawlog").string()) + " /nonexistent.rawlog");
+		EXPECT_EQ(r.exitCode, 1) << r.output;
+	}
+	std::cout << "install + external project configure/build/run: "
+			  << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
+}
