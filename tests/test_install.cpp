@@ -80,3 +80,24 @@ TEST(Install, ExternalProjectBuildsAgainstTheInstalledPackage)
 	std::cout << "install + external project configure/build/run: "
 			  << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
 }
+
+TEST(Install, ReadmeSnippetIsTheExternalProjectProgram)
+{
+	// README.md "Using pmslam from your code" shows share/examples/external-project/main.cpp, which
+	// the test above compiles against the installed package: the two must not drift apart.
+	const std::string readme = pmslam::testing::readText(PMSLAM_SOURCE_DIR "/README.md");
+	const std::size_t section = readme.find("## Using pmslam from your code");
+	ASSERT_NE(section, std::string::npos);
+	const std::size_t begin = readme.find("```cpp\n", section);
+	ASSERT_NE(begin, std::string::npos);
+	const std::size_t end = readme.find("```\n", begin + 7);
+	ASSERT_NE(end, std::string::npos);
+	EXPECT_EQ(readme.substr(begin + 7, end - begin - 7),
+			  pmslam::testing::readText(PMSLAM_SOURCE_DIR "/share/examples/external-project/main.cpp"));
+	const std::string cmake = pmslam::testing::readText(PMSLAM_SOURCE_DIR "/share/examples/external-project/CMakeLists.txt");
+	for (const char* line : {"find_package(pmslam 0.1 REQUIRED)", "target_link_libraries(map-a-rawlog PRIVATE pmslam::pmslam)"})
+	{
+		EXPECT_NE(readme.find(line, section), std::string::npos) << line;
+		EXPECT_NE(cmake.find(line), std::string::npos) << line;
+	}
+}

@@ -48,6 +48,8 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(grid.scan.minRange >= 0, "minRange: expected >= 0");
 	need(grid.scan.maxHitRange >= 0, "maxHitRange: expected >= 0 (0 = no limit)");
 	need(grid.scan.noReturnCarveRange >= 0, "noReturnCarveRange: expected >= 0 (0 = off)");
+	need(grid.freeCarveLength >= 0, "freeCarveLength: expected >= 0 m (0 = whole beam)");
+	need(grid.joinHitsCloserThan >= 0, "joinHitsCloserThan: expected >= 0 m (0 = off)");
 }
 
 void MapBuilderOptions::dumpToTextStream(std::ostream& out) const

@@ -8,26 +8,10 @@
 
 namespace pmslam
 {
-struct DynamicDistanceMap::Block
-{
-	static constexpr int N = kBlockSide * kBlockSide;
-	Cell cells[N];
-	uint8_t flags[N];
-	Block()
-	{
-		for (auto& c : cells) c = Cell{kFar, 0, 0};
-		std::fill(std::begin(flags), std::end(flags), uint8_t(0));
-	}
-};
-
 namespace
 {
-constexpr int kMask = DynamicDistanceMap::kBlockSide - 1;
-inline int blockOf(int c) { return c >> DynamicDistanceMap::kBlockShift; }	// floor division
-inline int inBlock(int cx, int cy)
-{
-	return ((cy & kMask) << DynamicDistanceMap::kBlockShift) | (cx & kMask);
-}
+inline int blockOf(int c) { return DynamicDistanceMap::blockOf(c); }
+inline int inBlock(int cx, int cy) { return DynamicDistanceMap::inBlock(cx, cy); }
 constexpr int kNeighbours[8][2] = {{-1, -1}, {0, -1}, {1, -1}, {-1, 0},
 								   {1, 0},	 {-1, 1}, {0, 1},  {1, 1}};
 }  // namespace
@@ -259,58 +243,6 @@ float DynamicDistanceMap::cellDistance(int cx, int cy) const
 	const Cell* c = cellPtr(cx, cy, nullptr);
 	if (!c || c->sqd == kFar) return static_cast<float>(m_maxDistance);
 	return m_sqrtLut[c->sqd];
-}
-
-float DynamicDistanceMap::distanceAt(double x, double y, double* gradX, double* gradY) const
-{
-	const double u = x * m_invResolution - 0.5, v = y * m_invResolution - 0.5;
-	// Far outside anything representable (or NaN): answer the truncation.
-	if (!(std::abs(u) < 1e9 && std::abs(v) < 1e9))
-	{
-		if (gradX) *gradX = 0;
-		if (gradY) *gradY = 0;
-		return static_cast<float>(m_maxDistance);
-	}
-	// floor() without a libm call: truncate, then step down for negative fractions.
-	int i0 = static_cast<int>(u), j0 = static_cast<int>(v);
-	i0 -= u < i0;
-	j0 -= v < j0;
-	const double fu = i0, fv = j0;
-	const double ax = u - fu, ay = v - fv;
-	float d00, d10, d01, d11;
-	const float far = static_cast<float>(m_maxDistance);
-	if (blockOf(i0) == blockOf(i0 + 1) && blockOf(j0) == blockOf(j0 + 1))
-	{
-		// Common case: all four samples in one block, one directory look-up.
-		const int bx = blockOf(i0) - m_bx0, by = blockOf(j0) - m_by0;
-		const Block* b = (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby)
-							 ? nullptr
-							 : m_dir[std::size_t(by) * m_nbx + bx].get();
-		if (!b)
-			d00 = d10 = d01 = d11 = far;
-		else
-		{
-			auto at = [&](int cx, int cy) {
-				const int s = b->cells[inBlock(cx, cy)].sqd;
-				return s == kFar ? far : m_sqrtLut[s];
-			};
-			d00 = at(i0, j0);
-			d10 = at(i0 + 1, j0);
-			d01 = at(i0, j0 + 1);
-			d11 = at(i0 + 1, j0 + 1);
-		}
-	}
-	else
-	{
-		d00 = cellDistance(i0, j0);
-		d10 = cellDistance(i0 + 1, j0);
-		d01 = cellDistance(i0, j0 + 1);
-		d11 = cellDistance(i0 + 1, j0 + 1);
-	}
-	const double top = d00 + ax * (d10 - d00), bottom = d01 + ax * (d11 - d01);
-	if (gradX) *gradX = ((d10 - d00) * (1 - ay) + (d11 - d01) * ay) * m_invResolution;
-	if (gradY) *gradY = (bottom - top) * m_invResolution;
-	return static_cast<float>(top + ay * (bottom - top));
 }
 
 std::size_t DynamicDistanceMap::memoryBytes() const

@@ -36,6 +36,7 @@ void OccupancyGridUpdateOptions::loadFromConfigFile(const mrpt::config::CConfigF
 	missProbability = c.read_double(s, "missProbability", missProbability);
 	clampProbability = c.read_double(s, "clampProbability", clampProbability);
 	joinHitsCloserThan = c.read_double(s, "joinHitsCloserThan", joinHitsCloserThan);
+	freeCarveLength = c.read_double(s, "freeCarveLength", freeCarveLength);
 	scan.minRange = c.read_double(s, "minRange", scan.minRange);
 	scan.maxHitRange = c.read_double(s, "maxHitRange", scan.maxHitRange);
 	scan.noReturnCarveRange = c.read_double(s, "noReturnCarveRange", scan.noReturnCarveRange);
@@ -46,6 +47,7 @@ void OccupancyGridUpdateOptions::dumpToTextStream(std::ostream& out) const
 	out << "resolution = " << resolution << "\nmaxDistance = " << maxDistance
 		<< "\nhitProbability = " << hitProbability << "\nmissProbability = " << missProbability
 		<< "\nclampProbability = " << clampProbability << "\njoinHitsCloserThan = " << joinHitsCloserThan
+		<< "\nfreeCarveLength = " << freeCarveLength
 		<< "\nminRange = " << scan.minRange
 		<< "\nmaxHitRange = " << scan.maxHitRange << "\nnoReturnCarveRange = " << scan.noReturnCarveRange << "\n";
 }
@@ -192,17 +194,29 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 			}
 		}
 	}
-	// Free space: every cell a beam crosses before its endpoint.
-	for (const auto& p : scan.hits)
-	{
+	// Free space: every cell a beam crosses before its endpoint, or only the last
+	// freeCarveLength metres of it (the cells near the robot are crossed by many beams;
+	// a long beam adds little there but costs a cell visit per 5 cm).
+	const double carve = m_opts.freeCarveLength;
+	auto carveTo = [&](const mrpt::math::TPoint2Df& p) {
 		const auto [ix, iy] = cellOf(p);
-		line(sx, sy, ix, iy, m_missDelta);
-	}
-	for (const auto& p : scan.freeEnds)
-	{
-		const auto [ix, iy] = cellOf(p);
-		line(sx, sy, ix, iy, m_missDelta);
-	}
+		int fx = sx, fy = sy;
+		if (carve > 0)
+		{
+			const double dx = double(p.x) - scan.sensorOrigin.x, dy = double(p.y) - scan.sensorOrigin.y;
+			const double len = std::hypot(dx, dy);
+			if (len > carve)
+			{
+				const double t = 1.0 - carve / len;
+				const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
+				fx = x2idx(wx);
+				fy = y2idx(wy);
+			}
+		}
+		line(fx, fy, ix, iy, m_missDelta);
+	};
+	for (const auto& p : scan.hits) carveTo(p);
+	for (const auto& p : scan.freeEnds) carveTo(p);
 	m_distance.update();
 	m_is_empty = false;
 	return m_flips;

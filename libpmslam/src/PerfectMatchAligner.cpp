@@ -80,6 +80,7 @@ void PerfectMatchAligner::TConfigParams::loadFromConfigFile(const mrpt::config::
 	rpropMaxStepPhi = c.read_double(s, "rpropMaxStepPhi", rpropMaxStepPhi);
 	rpropRefineIterations =
 		static_cast<unsigned>(c.read_int(s, "rpropRefineIterations", static_cast<int>(rpropRefineIterations)));
+	rpropPatience = static_cast<unsigned>(c.read_int(s, "rpropPatience", static_cast<int>(rpropPatience)));
 	minStepXY = c.read_double(s, "minStepXY", minStepXY);
 	minStepPhi = c.read_double(s, "minStepPhi", minStepPhi);
 	decimation = static_cast<unsigned>(c.read_int(s, "decimation", static_cast<int>(decimation)));
@@ -96,6 +97,7 @@ void PerfectMatchAligner::TConfigParams::loadFromConfigFile(const mrpt::config::
 	requireRange("rpropMaxStepXY", rpropMaxStepXY, 1e-6, 10);
 	requireRange("rpropMaxStepPhi", rpropMaxStepPhi, 1e-6, 3);
 	requireRange("rpropRefineIterations", rpropRefineIterations, 0, 100);
+	requireRange("rpropPatience", rpropPatience, 0, 10000);
 	requireRange("minStepXY", minStepXY, 0, 1);
 	requireRange("minStepPhi", minStepPhi, 0, 1);
 	requireRange("decimation", decimation, 1, 1000);
@@ -110,7 +112,7 @@ void PerfectMatchAligner::TConfigParams::dumpToTextStream(std::ostream& out) con
 		<< "\nrpropInitialStepXY = " << rpropInitialStepXY << "\nrpropInitialStepPhi = " << rpropInitialStepPhi
 		<< "\nrpropIncrease = " << rpropIncrease << "\nrpropDecrease = " << rpropDecrease
 		<< "\nrpropMaxStepXY = " << rpropMaxStepXY << "\nrpropMaxStepPhi = " << rpropMaxStepPhi
-		<< "\nrpropRefineIterations = " << rpropRefineIterations
+		<< "\nrpropRefineIterations = " << rpropRefineIterations << "\nrpropPatience = " << rpropPatience
 		<< "\nminStepXY = " << minStepXY << "\nminStepPhi = " << minStepPhi << "\ndecimation = " << decimation
 		<< "\nmaxDistance = " << maxDistance << "\noccupiedThreshold = " << occupiedThreshold
 		<< "\nuseInitialCovarianceAsPrior = " << useInitialCovarianceAsPrior << "\n";
@@ -347,6 +349,7 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 		const Eigen::Vector3d maxStep(options.rpropMaxStepXY, options.rpropMaxStepXY, options.rpropMaxStepPhi);
 		const Eigen::Vector3d minStep(options.minStepXY, options.minStepXY, options.minStepPhi);
 		Eigen::Vector3d prevGrad = Eigen::Vector3d::Zero();
+		unsigned sinceBest = 0;
 		for (it = 0; it < options.maxIterations; ++it)
 		{
 			Eigen::Vector3d g = cur.gradient;
@@ -364,12 +367,18 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 			}
 			prevGrad = g;
 			cur = f(x, CostFunction::kCost);
-			if (cur.cost < bestCost)
+			if (cur.cost < bestCost - 1e-9 * std::abs(bestCost))
 			{
 				bestCost = cur.cost;
 				best = x;
+				sinceBest = 0;
 			}
-			if ((step.array() < minStep.array()).all())
+			else
+				++sinceBest;
+			// Converged: every step is tiny, or the best pose has not improved for a while
+			// (RPROP then only oscillates around it with shrinking steps).
+			if ((step.array() < minStep.array()).all() ||
+				(options.rpropPatience > 0 && sinceBest >= options.rpropPatience))
 			{
 				++it;
 				break;

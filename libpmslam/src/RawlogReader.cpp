@@ -85,6 +85,8 @@ std::uint64_t contentSize(const std::string& path)
 constexpr double kMaxCoordinate = 1e7;	// m
 constexpr double kMaxHeading = 1e3;	 // rad
 constexpr double kMaxSensorOffset = 100.0;	// m
+/** No 2D laser measures farther (m): a longer "valid" reading is damage and made invalid. */
+constexpr float kMaxReading = 1000.0f;
 
 bool plausible(const mrpt::math::TPose2D& p)
 {
@@ -276,10 +278,14 @@ bool RawlogReader::next(LogEvent& ev)
 					return;
 				}
 				bool anyValid = false;
-				for (std::size_t i = 0; i < scan->getScanSize() && !anyValid; ++i)
+				for (std::size_t i = 0; i < scan->getScanSize(); ++i)
 				{
 					const float r = scan->getScanRange(i);
-					anyValid = scan->getScanRangeValidity(i) && std::isfinite(r) && r > 0.0f;
+					if (!scan->getScanRangeValidity(i)) continue;
+					if (std::isfinite(r) && r > 0.0f && r <= kMaxReading)
+						anyValid = true;
+					else
+						scan->setScanRangeValidity(i, false);
 				}
 				if (!anyValid)
 				{  // as for Carmen lines: nothing to match or map

@@ -12,8 +12,15 @@
  * the prediction, and inserted at the corrected pose. Scans below the threshold
  * keep the odometry-propagated pose. Every scan gets a pose.
  *
+ * Localisation: initializeWithFixedMap() loads a prior COccupancyGridMap2D
+ * and turns map updating off; every scan is then matched against that fixed
+ * map and nothing is inserted.
+ *
  * Frames: poses are of the robot base in the map frame (metres, radians);
- * scans carry their own sensorPose relative to the base.
+ * the first scan's pose is the origin of the map frame unless initialize()
+ * is given x0 (or the fixed map's frame is used). Scans carry their own
+ * sensorPose relative to the base (offset, yawed or upside-down lasers).
+ * Odometry is used only through its increments, so its frame does not matter.
  */
 #pragma once
 
@@ -91,9 +98,10 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	 *
 	 * The map keeps the grid's own resolution (PM_options.grid.resolution is not used; the
 	 * distance truncation PM_options.grid.maxDistance is, at least two cells). The distance layer
-	 * needs cell boundaries on multiples of the resolution; a grid whose origin is off that lattice
-	 * (e.g. loaded from an image with an arbitrary origin) is moved onto the nearest lattice
-	 * position, i.e. shifted by less than half a cell per axis, with a warning through the logger.
+	 * needs cell boundaries on multiples of the resolution. MRPT's setSize() and deserialisation
+	 * put every grid there; one whose origin is off that lattice (resizeGrid() tolerates 5 % of a
+	 * cell) is moved onto the nearest lattice position, cells unchanged, i.e. shifted by less than
+	 * half a cell per axis (see fixedMapShift()), with a warning through the logger.
 	 * Throws std::invalid_argument for an empty grid or one without any occupied cell.
 	 * To map again afterwards: set options.enableMapUpdating = true and call initialize(). */
 	void initializeWithFixedMap(const mrpt::maps::COccupancyGridMap2D& grid, const mrpt::math::TPose2D& initialPose);

@@ -19,6 +19,7 @@
  */
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -74,14 +75,39 @@ class DynamicDistanceMap
 	static constexpr int kBlockShift = 5;  // 32×32 cells per block
 	static constexpr int kBlockSide = 1 << kBlockShift;
 
+	static int blockOf(int c) { return c >> kBlockShift; }	// floor division, also for negatives
+	static int inBlock(int cx, int cy) { return ((cy & (kBlockSide - 1)) << kBlockShift) | (cx & (kBlockSide - 1)); }
+
    private:
 	struct Cell
 	{
 		int32_t sqd;  // squared distance in cells to (x+ox, y+oy); kFar when none within truncation
 		int16_t ox, oy;	 // offset to the nearest obstacle cell
 	};
-	struct Block;
 	static constexpr int32_t kFar = INT32_MAX;
+	struct Block
+	{
+		static constexpr int N = kBlockSide * kBlockSide;
+		Cell cells[N];
+		uint8_t flags[N];
+		Block()
+		{
+			for (auto& c : cells) c = Cell{kFar, 0, 0};
+			for (auto& f : flags) f = 0;
+		}
+	};
+	float sampleDistance(const Block* b, int cx, int cy) const
+	{
+		if (!b) return static_cast<float>(m_maxDistance);
+		const int32_t s = b->cells[inBlock(cx, cy)].sqd;
+		return s == kFar ? static_cast<float>(m_maxDistance) : m_sqrtLut[s];
+	}
+	const Block* blockAt(int cx, int cy) const
+	{
+		const int bx = blockOf(cx) - m_bx0, by = blockOf(cy) - m_by0;
+		if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby) return nullptr;
+		return m_dir[std::size_t(by) * m_nbx + bx].get();
+	}
 	static constexpr uint8_t kOccupied = 1, kToRaise = 2;
 
 	Cell* cellPtr(int cx, int cy, uint8_t** flags);	 // nullptr when not allocated
@@ -107,5 +133,44 @@ class DynamicDistanceMap
 	int m_minBucket = 0;
 	std::size_t m_queued = 0;
 };
+
+// Inline: it is the innermost call of every matcher iteration.
+inline float DynamicDistanceMap::distanceAt(double x, double y, double* gradX, double* gradY) const
+{
+	const double u = x * m_invResolution - 0.5, v = y * m_invResolution - 0.5;
+	// Far outside anything representable (or NaN): answer the truncation.
+	if (!(std::abs(u) < 1e9 && std::abs(v) < 1e9))
+	{
+		if (gradX) *gradX = 0;
+		if (gradY) *gradY = 0;
+		return static_cast<float>(m_maxDistance);
+	}
+	// floor() without a libm call: truncate, then step down for negative fractions.
+	int i0 = static_cast<int>(u), j0 = static_cast<int>(v);
+	i0 -= u < i0;
+	j0 -= v < j0;
+	const double ax = u - i0, ay = v - j0;
+	float d00, d10, d01, d11;
+	if (blockOf(i0) == blockOf(i0 + 1) && blockOf(j0) == blockOf(j0 + 1))
+	{
+		// Common case: all four samples in one block, one directory look-up.
+		const Block* b = blockAt(i0, j0);
+		d00 = sampleDistance(b, i0, j0);
+		d10 = sampleDistance(b, i0 + 1, j0);
+		d01 = sampleDistance(b, i0, j0 + 1);
+		d11 = sampleDistance(b, i0 + 1, j0 + 1);
+	}
+	else
+	{
+		d00 = sampleDistance(blockAt(i0, j0), i0, j0);
+		d10 = sampleDistance(blockAt(i0 + 1, j0), i0 + 1, j0);
+		d01 = sampleDistance(blockAt(i0, j0 + 1), i0, j0 + 1);
+		d11 = sampleDistance(blockAt(i0 + 1, j0 + 1), i0 + 1, j0 + 1);
+	}
+	const double top = d00 + ax * (d10 - d00), bottom = d01 + ax * (d11 - d01);
+	if (gradX) *gradX = ((d10 - d00) * (1 - ay) + (d11 - d01) * ay) * m_invResolution;
+	if (gradY) *gradY = (bottom - top) * m_invResolution;
+	return static_cast<float>(top + ay * (bottom - top));
+}
 
 }  // namespace pmslam

@@ -2,6 +2,11 @@
  *
  * Every writer is atomic (temporary file + rename): an interrupted run never
  * leaves a half-written map behind, and the previous file survives a failure.
+ *
+ * Frames and units: everything is in the grid's own (map) frame, metres and
+ * radians; trajectories are robot base poses in that frame. Images show one
+ * pixel per cell, x to the right and y up (north at the top); the ROS YAML's
+ * `origin` is the map-frame position (m) of the image's lower-left corner.
  */
 #pragma once
 

@@ -14,6 +14,12 @@
  *
  * Serialising or cloning this object through MRPT's RTTI yields a plain
  * COccupancyGridMap2D (the distance layer is derived data and is not saved).
+ *
+ * Frames and units: the map frame, metres; scans are inserted from a robot
+ * pose (m, m, rad) in that frame with their points in the robot frame. The
+ * grid grows as scans need it, and its origin always stays on a multiple of
+ * the resolution, so grid cell (ix, iy) is distance-map cell
+ * (ix + xMin/res, iy + yMin/res) of DynamicDistanceMap's global lattice.
  */
 #pragma once
 
@@ -42,6 +48,10 @@ struct OccupancyGridUpdateOptions : public mrpt::config::CLoadableOptions
 	 * them keeps far walls solid instead of dotted, so a later scan is not pulled toward
 	 * the dots (which biases the estimated motion toward zero). 0 disables. */
 	double joinHitsCloserThan = 0.0;
+	/** Free space is carved only along the last this-many metres of each beam (0 = the whole
+	 * beam). Cells near the robot are crossed by many beams, so little is lost; far beams cost
+	 * a cell visit per 5 cm each. */
+	double freeCarveLength = 0.0;
 	ScanPointsOptions scan;	 ///< min/max ranges and free-space carving of no-return beams
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;

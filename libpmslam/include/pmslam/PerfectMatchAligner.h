@@ -13,6 +13,11 @@
  *    cached until the grid's contents change.
  * The result is a CPosePDFGaussian (pose of m2's frame in m1's frame) whose
  * covariance is the inverse curvature of the cost at the optimum.
+ *
+ * Units and frames: metres and radians throughout; m2's points are in its own
+ * frame (the robot frame for a scan, sensorPose applied), poses are (x, y, θ)
+ * of that frame in m1's (the map) frame. See share/examples/replace-icp/ for
+ * the swap from CICP in a complete program.
  */
 #pragma once
 
@@ -65,6 +70,8 @@ class PerfectMatchAligner : public mrpt::slam::CMetricMapsAlignmentAlgorithm
 		double rpropMaxStepXY = 0.2, rpropMaxStepPhi = 0.1;	 ///< RPROP step bounds (m, rad)
 		/** Gauss-Newton steps on the same cost after RPROP, to settle on the minimum (0 = pure RPROP). */
 		unsigned rpropRefineIterations = 0;
+		/** RPROP stops when the best cost has not improved for this many iterations (0 = never). */
+		unsigned rpropPatience = 0;
 		double minStepXY = 1e-4, minStepPhi = 1e-4;	 ///< converged when every step is below these
 		unsigned decimation = 1;  ///< use every k-th point of m2
 		/** For a stock COccupancyGridMap2D: truncation (m) of the distance layer
