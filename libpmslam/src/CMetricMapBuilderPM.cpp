@@ -18,6 +18,11 @@
 
 namespace pmslam
 {
+namespace
+{
+constexpr double kMaxOdometryStep = 10.0;  // m between two consecutive scans
+}
+
 void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	insertionLinDistance = c.read_double(s, "insertionLinDistance", insertionLinDistance);
@@ -117,14 +122,22 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 	if (odomNow && m_odometryAtLastScan)
 	{
 		const mrpt::poses::CPose2D delta = mrpt::poses::CPose2D(*odomNow) - mrpt::poses::CPose2D(*m_odometryAtLastScan);
-		r.predicted = (mrpt::poses::CPose2D(m_pose) + delta).asTPose();
+		// No robot moves 10 m between two scans: such a jump is an odometry glitch (a reset,
+		// a corrupt reading), and following it would throw the robot (and the grid) away.
+		if (std::hypot(delta.x(), delta.y()) < kMaxOdometryStep)
+			r.predicted = (mrpt::poses::CPose2D(m_pose) + delta).asTPose();
+		else
+			MRPT_LOG_WARN_STREAM("odometry jumped " << std::hypot(delta.x(), delta.y())
+													<< " m between two scans: ignored (constant-position prediction)");
 	}
 	if (odomNow) m_odometryAtLastScan = odomNow;
 	r.pose = r.predicted;
 
 	const double lin = std::hypot(r.predicted.x - m_lastInsertPose.x, r.predicted.y - m_lastInsertPose.y);
 	const double ang = std::abs(mrpt::math::wrapToPi(r.predicted.phi - m_lastInsertPose.phi));
-	const bool moved = lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
+	// Without any odometry the prediction never moves, so every scan is matched.
+	const bool moved =
+		!odomNow || lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
 
 	if (m_mapEmpty || moved || !options.enableMapUpdating)
 	{

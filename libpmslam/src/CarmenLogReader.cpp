@@ -173,8 +173,11 @@ struct CarmenLogReader::Impl
 	void checkPose(const mrpt::math::TPose2D& p, const char* what) const
 	{
 		if (std::abs(p.x) > kMaxCoordinate || std::abs(p.y) > kMaxCoordinate || std::abs(p.phi) > kMaxHeading)
-			throw SkipLine{std::string("implausible ") + what + " (" + fmt6(p.x) + ", " + fmt6(p.y) + ", " +
-						   fmt6(p.phi) + ")"};
+		{
+			char b[120];
+			std::snprintf(b, sizeof(b), " (%.6g, %.6g, %.6g)", p.x, p.y, p.phi);
+			throw SkipLine{std::string("implausible ") + what + b};
+		}
 	}
 
 	void checkTimestamp(double ts) const
