@@ -205,3 +205,29 @@ TEST(PerfectMatchAligner, RejectsWhatItCannotAlign)
 	EXPECT_THROW(aligner.AlignPDF(&other, &pts, init), std::invalid_argument);
 	EXPECT_THROW(aligner.Align3DPDF(&other, &pts, mrpt::poses::CPose3DPDFGaussian()), std::logic_error);
 }
+
+TEST(PerfectMatchAligner, IgnoresNonFinitePoints)
+{
+	// A corrupt scan must not poison the sums (a NaN once made the GN solver spin forever).
+	const auto world = pmslam::testing::furnishedRoom();
+	const auto grid = roomGrid(world);
+	const auto dm = PerfectMatchAligner::distanceMapFromGrid(grid, 0.5, 0.5);
+	const TPose2D truth(0.3, -0.2, 0.4);
+	auto pts = pmslam::scanToPoints(world.scan(truth, 361)).hits;
+	pts[10].x = std::numeric_limits<float>::quiet_NaN();
+	pts[20].y = std::numeric_limits<float>::infinity();
+	for (auto opt : {PerfectMatchAligner::Optimizer::RPROP, PerfectMatchAligner::Optimizer::GaussNewton,
+					 PerfectMatchAligner::Optimizer::LevenbergMarquardt})
+	{
+		PerfectMatchAligner aligner;
+		aligner.options.optimizer = opt;
+		aligner.options.rpropRefineIterations = 3;
+		PerfectMatchAligner::TReturnInfo info;
+		const TPose2D est = aligner.alignPoints(dm, pts, TPose2D(0.35, -0.15, 0.45), &info);
+		EXPECT_NEAR(est.x, truth.x, 0.01) << pmslam::toString(opt);
+		EXPECT_NEAR(est.y, truth.y, 0.01) << pmslam::toString(opt);
+		EXPECT_EQ(info.nPoints, pts.size() - 2);
+	}
+	PerfectMatchAligner aligner;
+	EXPECT_THROW(aligner.alignPoints(dm, pts, TPose2D(std::nan(""), 0, 0)), std::invalid_argument);
+}

@@ -281,7 +281,18 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 													 const mrpt::math::TPose2D& initial, TReturnInfo* info,
 													 Eigen::Matrix3d* covariance, const PosePrior* prior) const
 {
-	const CostFunction f(map, points, options, prior);
+	// Non-finite points (a corrupt scan) would poison every sum: leave them out.
+	std::vector<mrpt::math::TPoint2Df> finitePoints;
+	const std::vector<mrpt::math::TPoint2Df>* pts = &points;
+	if (!std::all_of(points.begin(), points.end(), [](const auto& p) { return std::isfinite(p.x) && std::isfinite(p.y); }))
+	{
+		for (const auto& p : points)
+			if (std::isfinite(p.x) && std::isfinite(p.y)) finitePoints.push_back(p);
+		pts = &finitePoints;
+	}
+	if (!std::isfinite(initial.x) || !std::isfinite(initial.y) || !std::isfinite(initial.phi))
+		throw std::invalid_argument("PerfectMatchAligner: the initial pose is not finite");
+	const CostFunction f(map, *pts, options, prior);
 	Eigen::Vector3d x(initial.x, initial.y, initial.phi);
 	const bool rprop = options.optimizer == Optimizer::RPROP;
 	unsigned it = 0;
@@ -295,6 +306,7 @@ mrpt::math::TPose2D PerfectMatchAligner::alignPoints(const DynamicDistanceMap& m
 			Eigen::Matrix3d A = cur.JtWJ;
 			if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
 			A.diagonal().array() += 1e-9;
+			if (!A.allFinite() || !cur.JtWr.allFinite()) break;	 // never hand NaN to the solver
 			Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
 			if (!dx.allFinite()) break;
 			Eigen::Vector3d xn = x + dx;
