@@ -23,6 +23,7 @@
 #include <mrpt/system/COutputLogger.h>
 #include <pmslam/AtomicFile.h>
 #include <pmslam/LogReader.h>
+#include <pmslam/RunStatistics.h>
 #include <pmslam/Trajectory.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -122,21 +123,6 @@ Args parseArgs(int argc, char** argv)
 	if (positional.size() != 1) usageError("expected one LOG, got " + std::to_string(positional.size()));
 	a.log = positional[0];
 	return a;
-}
-
-double percentile(std::vector<double> v, double q)
-{
-	if (v.empty()) return 0;
-	const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
-	std::nth_element(v.begin(), v.begin() + k, v.end());
-	return v[k];
-}
-
-double peakRssMB()
-{
-	rusage ru{};
-	getrusage(RUSAGE_SELF, &ru);
-	return ru.ru_maxrss / 1024.0;  // Linux reports KiB
 }
 
 /** One line out of an exception text: MRPT's span several lines (banner,
@@ -386,10 +372,10 @@ int main(int argc, char** argv)
 					traj.size(), builder.getCurrentlyBuiltMapSize(), warnings.icpRejected, st.odometry, odometryFed,
 					st.skipped, st.warnings);
 		std::printf("  time per scan (ICP + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
-					timingMs.empty() ? 0.0 : sumMs / timingMs.size(), percentile(timingMs, 0.5),
-					percentile(timingMs, 0.99));
+					timingMs.empty() ? 0.0 : sumMs / timingMs.size(), pmslam::percentile(timingMs, 0.5),
+					pmslam::percentile(timingMs, 0.99));
 		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx, peak memory %.1f MB\n", sumMs / 1000.0,
-					wallS, sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0, peakRssMB());
+					wallS, sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0, pmslam::peakResidentMemoryMB());
 		std::printf("  trajectory: %s/trajectory.txt, timing: %s/timing.txt\n", args.out.c_str(), args.out.c_str());
 	}
 	if (failed) return 1;

@@ -9,6 +9,7 @@
 #include <pmslam/AtomicFile.h>
 #include <pmslam/CMetricMapBuilderPM.h>
 #include <pmslam/LogReader.h>
+#include <pmslam/RunStatistics.h>
 #include <pmslam/MapExport.h>
 #include <pmslam/SlamConfig.h>
 #include <pmslam/Trajectory.h>
@@ -143,21 +144,6 @@ Args parseArgs(int argc, char** argv)
 	if (initialPoseGiven && a.localize.empty()) usageError("--initial-pose needs --localize MAP");
 	a.log = positional.empty() ? kDefaultLog : positional[0];
 	return a;
-}
-
-double percentile(std::vector<double> v, double q)
-{
-	if (v.empty()) return 0;
-	const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
-	std::nth_element(v.begin(), v.begin() + k, v.end());
-	return v[k];
-}
-
-double peakRssMB()
-{
-	rusage ru{};
-	getrusage(RUSAGE_SELF, &ru);
-	return ru.ru_maxrss / 1024.0;  // Linux reports KiB
 }
 
 struct ScanTiming
@@ -361,12 +347,12 @@ int main(int argc, char** argv)
 		std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
 					traj.size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
 		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
-					total.empty() ? 0.0 : sumMs / total.size(), percentile(total, 0.5), percentile(total, 0.99));
+					total.empty() ? 0.0 : sumMs / total.size(), pmslam::percentile(total, 0.5), pmslam::percentile(total, 0.99));
 		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx\n", sumMs / 1000.0, wallS,
 					sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0);
 		// The process's peak includes MRPT's shared libraries (~100 MB mapped and relocated at
 		// start-up, before any data); the map's own memory is reported beside it.
-		std::printf("  peak memory %.1f MB (map: grid + distance layer %.1f MB)\n", peakRssMB(),
+		std::printf("  peak memory %.1f MB (map: grid + distance layer %.1f MB)\n", pmslam::peakResidentMemoryMB(),
 					slam.grid().memoryBytes() / (1024.0 * 1024.0));
 		if (!args.localize.empty())
 			std::printf("  localised on %s (unchanged): %s/map.png, trajectory: %s/trajectory.txt\n",
