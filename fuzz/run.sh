@@ -58,7 +58,8 @@ for t in "${targets[@]}"; do
     left=$((end - SECONDS))
     [ "$left" -gt 0 ] || break
     before="$(ls "$build/artifacts" | sort)"
-    if "$build/bin/$t" -max_total_time="$left" -timeout=30 -rss_limit_mb=2560 -malloc_limit_mb=2048 \
+    # A fixed seed keeps a run repeatable for the same binary and corpus (CI must not flip on luck).
+    if "$build/bin/$t" -seed=1 -max_total_time="$left" -timeout=30 -rss_limit_mb=2560 -malloc_limit_mb=2048 \
         -max_len=65536 -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" "${dict[@]}" \
         "$work/$t" >"$work/$t.log" 2>&1; then
       grep -E "^stat::number_of_executed_units|^stat::average_exec_per_sec|^stat::peak_rss_mb" "$work/$t.log" |

@@ -9,7 +9,10 @@ namespace pmslam
 ScanPoints scanToPoints(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPointsOptions& opts)
 {
 	ScanPoints out;
-	const auto& sp = scan.sensorPose;
+	// Rebuilt from x, y, z, yaw, pitch, roll: a deserialised CPose3D carries its rotation
+	// matrix as stored, which a damaged file can make non-orthonormal or huge.
+	const mrpt::poses::CPose3D sp(scan.sensorPose.x(), scan.sensorPose.y(), scan.sensorPose.z(),
+								  scan.sensorPose.yaw(), scan.sensorPose.pitch(), scan.sensorPose.roll());
 	out.sensorOrigin = {sp.x(), sp.y()};
 	const std::size_t n = scan.getScanSize();
 	out.hits.reserve(n);
@@ -30,8 +33,10 @@ ScanPoints scanToPoints(const mrpt::obs::CObservation2DRangeScan& scan, const Sc
 		if (scan.getScanRangeValidity(i))
 		{
 			if (r < opts.minRange) continue;
+			const auto q = toRobot(r, a);
+			if (!std::isfinite(q.x) || !std::isfinite(q.y)) continue;
 			if (r <= maxHit)
-				out.hits.push_back(toRobot(r, a));
+				out.hits.push_back(q);
 			else if (opts.noReturnCarveRange > 0)
 				out.freeEnds.push_back(toRobot(std::min(r, opts.noReturnCarveRange), a));
 		}
