@@ -11,6 +11,7 @@
 #include <pmslam/LogReader.h>
 #include <pmslam/RunStatistics.h>
 #include <pmslam/MapExport.h>
+#include <pmslam/ScanPoints.h>
 #include <pmslam/SlamConfig.h>
 #include <pmslam/Trajectory.h>
 #include <sys/resource.h>
@@ -292,7 +293,16 @@ int main(int argc, char** argv)
 			progress.update(traj.size());
 			if (window && std::chrono::steady_clock::now() - lastGui > std::chrono::milliseconds(500))
 			{
-				window->showImage(pmslam::renderMap(slam.grid(), traj));
+				// The current scan's returns, placed at the pose SLAM gave it.
+				std::vector<mrpt::math::TPoint2D> scanInMap;
+				const mrpt::poses::CPose2D pose(traj.back().x, traj.back().y, traj.back().yaw);
+				for (const auto& p : pmslam::scanToPoints(*ev.scan, cfg.mapping.grid.scan).hits)
+				{
+					double wx, wy;
+					pose.composePoint(p.x, p.y, wx, wy);
+					scanInMap.emplace_back(wx, wy);
+				}
+				window->showImage(pmslam::renderMap(slam.grid(), traj, scanInMap));
 				lastGui = std::chrono::steady_clock::now();
 			}
 			if (args.maxScans && traj.size() >= args.maxScans) break;

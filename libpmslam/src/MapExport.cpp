@@ -104,7 +104,8 @@ void saveMapPgmYaml(const mrpt::maps::COccupancyGridMap2D& grid, const std::stri
 	});
 }
 
-mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path)
+mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path,
+							const std::vector<mrpt::math::TPoint2D>& scanInMap)
 {
 	const Crop c = mappedArea(grid);
 	mrpt::img::CImage img(c.width(), c.height(), mrpt::img::CH_RGB);
@@ -125,6 +126,12 @@ mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const T
 		const auto [ax, ay] = toPixel(path[i - 1].x, path[i - 1].y);
 		const auto [bx, by] = toPixel(path[i].x, path[i].y);
 		img.line(ax, ay, bx, by, red, 1);
+	}
+	const mrpt::img::TColor green(20, 170, 40);
+	for (const auto& p : scanInMap)
+	{
+		const auto [px, py] = toPixel(p.x, p.y);
+		if (px > 0 && py > 0 && px + 1 < c.width() && py + 1 < c.height()) img.filledRectangle(px - 1, py - 1, px + 1, py + 1, green);
 	}
 	return img;
 }

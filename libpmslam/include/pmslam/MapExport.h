@@ -15,7 +15,10 @@
 #include <mrpt/maps/CSimpleMap.h>
 #include <pmslam/Trajectory.h>
 
+#include <mrpt/math/TPoint2D.h>
+
 #include <string>
+#include <vector>
 
 namespace pmslam
 {
@@ -24,8 +27,10 @@ namespace pmslam
 void saveMapPgmYaml(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& pgmPath,
 					const std::string& yamlPath);
 
-/** The mapped area as an RGB image (grey occupancy, trajectory in red), for display or saving. */
-mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path);
+/** The mapped area as an RGB image (grey occupancy, trajectory in red, and optionally the current scan's
+ * endpoints in the map frame in green), for display or saving. */
+mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path,
+							const std::vector<mrpt::math::TPoint2D>& scanInMap = {});
 
 /** A PNG picture of the mapped area with the trajectory drawn over it. */
 void saveMapPng(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path, const std::string& pngPath);
