@@ -10,8 +10,6 @@ namespace pmslam
 {
 namespace
 {
-inline int blockOf(int c) { return DynamicDistanceMap::blockOf(c); }
-inline int inBlock(int cx, int cy) { return DynamicDistanceMap::inBlock(cx, cy); }
 constexpr int kNeighbours[8][2] = {{-1, -1}, {0, -1}, {1, -1}, {-1, 0},
 								   {1, 0},	 {-1, 1}, {0, 1},  {1, 1}};
 }  // namespace
