@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "RunProgram.h"
+#include "SyntheticLogs.h"
 
 namespace fs = std::filesystem;
 using pmslam::testing::quote;
@@ -28,15 +29,6 @@ fs::path freshDir(const std::string& name)
 	return d;
 }
 
-std::size_t countPoseLines(const fs::path& p)
-{
-	std::ifstream in(p);
-	std::string line;
-	std::size_t n = 0;
-	while (std::getline(in, line))
-		if (!line.empty() && line[0] != '#') ++n;
-	return n;
-}
 }  // namespace
 
 TEST(PmSlamApp, MapsTheMrptSampleLogAndWritesEveryOutput)
@@ -55,7 +47,7 @@ TEST(PmSlamApp, MapsTheMrptSampleLogAndWritesEveryOutput)
 	const auto traj = pmslam::loadTrajectory((out / "trajectory.txt").string());
 	EXPECT_NE(r.output.find("scans " + std::to_string(traj.size()) + ","), std::string::npos) << r.output;
 	EXPECT_GT(traj.size(), 200u);
-	EXPECT_EQ(countPoseLines(out / "timing.txt"), traj.size());
+	EXPECT_EQ(pmslam::testing::countDataLines(out / "timing.txt"), traj.size());
 	EXPECT_EQ(traj.front().x, 0.0);
 	EXPECT_EQ(traj.front().y, 0.0);
 	for (std::size_t i = 1; i < traj.size(); ++i) EXPECT_GT(traj[i].timestamp, traj[i - 1].timestamp);
