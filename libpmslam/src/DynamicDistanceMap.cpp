@@ -29,6 +29,7 @@ DynamicDistanceMap::DynamicDistanceMap(double resolution, double maxDistance)
 	for (int i = 0; i <= m_maxSq; ++i)
 		m_sqrtLut[i] = static_cast<float>(std::min(std::sqrt(double(i)) * resolution, maxDistance));
 	m_buckets.resize(m_maxSq + 1);
+	m_farBlock = std::make_unique<Block>(static_cast<float>(maxDistance));
 }
 
 DynamicDistanceMap::~DynamicDistanceMap() = default;
@@ -50,26 +51,17 @@ int DynamicDistanceMap::worldToCell(double v) const
 	return static_cast<int>(std::floor(v / m_resolution));
 }
 
-DynamicDistanceMap::Cell* DynamicDistanceMap::cellPtr(int cx, int cy, uint8_t** flags)
+DynamicDistanceMap::Ref DynamicDistanceMap::ref(int cx, int cy) const
 {
 	const int bx = blockOf(cx) - m_bx0, by = blockOf(cy) - m_by0;
-	if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby) return nullptr;
-	Block* b = m_dir[std::size_t(by) * m_nbx + bx].get();
-	if (!b) return nullptr;
-	const int i = inBlock(cx, cy);
-	if (flags) *flags = &b->flags[i];
-	return &b->cells[i];
+	if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby) return {};
+	return Ref{m_dir[std::size_t(by) * m_nbx + bx].get(), inBlock(cx, cy)};
 }
 
-const DynamicDistanceMap::Cell* DynamicDistanceMap::cellPtr(int cx, int cy, const uint8_t** flags) const
+bool DynamicDistanceMap::occupied(int cx, int cy) const
 {
-	const int bx = blockOf(cx) - m_bx0, by = blockOf(cy) - m_by0;
-	if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby) return nullptr;
-	const Block* b = m_dir[std::size_t(by) * m_nbx + bx].get();
-	if (!b) return nullptr;
-	const int i = inBlock(cx, cy);
-	if (flags) *flags = &b->flags[i];
-	return &b->cells[i];
+	const Ref r = ref(cx, cy);
+	return r && (r.flags() & kOccupied);
 }
 
 void DynamicDistanceMap::growDirectory(int bx, int by)
@@ -102,7 +94,7 @@ void DynamicDistanceMap::growDirectory(int bx, int by)
 	m_nby = nby;
 }
 
-DynamicDistanceMap::Cell* DynamicDistanceMap::cellPtrAlloc(int cx, int cy, uint8_t** flags)
+DynamicDistanceMap::Ref DynamicDistanceMap::refAlloc(int cx, int cy)
 {
 	int bx = blockOf(cx) - m_bx0, by = blockOf(cy) - m_by0;
 	if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby)
@@ -114,12 +106,10 @@ DynamicDistanceMap::Cell* DynamicDistanceMap::cellPtrAlloc(int cx, int cy, uint8
 	auto& slot = m_dir[std::size_t(by) * m_nbx + bx];
 	if (!slot)
 	{
-		slot = std::make_unique<Block>();
+		slot = std::make_unique<Block>(static_cast<float>(m_maxDistance));
 		++m_blockCount;
 	}
-	const int i = inBlock(cx, cy);
-	if (flags) *flags = &slot->flags[i];
-	return &slot->cells[i];
+	return Ref{slot.get(), inBlock(cx, cy)};
 }
 
 void DynamicDistanceMap::push(int key, int cx, int cy)
@@ -132,54 +122,42 @@ void DynamicDistanceMap::push(int key, int cx, int cy)
 
 void DynamicDistanceMap::addObstacle(int cx, int cy)
 {
-	uint8_t* f = nullptr;
-	Cell* c = cellPtrAlloc(cx, cy, &f);
-	if (*f & kOccupied) return;
-	*f |= kOccupied;
-	c->sqd = 0;
-	c->ox = c->oy = 0;
+	const Ref r = refAlloc(cx, cy);
+	if (r.flags() & kOccupied) return;
+	r.flags() |= kOccupied;
+	assign(r, 0, 0, 0);
 	push(0, cx, cy);
 }
 
 void DynamicDistanceMap::removeObstacle(int cx, int cy)
 {
-	uint8_t* f = nullptr;
-	Cell* c = cellPtr(cx, cy, &f);
-	if (!c || !(*f & kOccupied)) return;
-	*f = static_cast<uint8_t>((*f & ~kOccupied) | kToRaise);
-	c->sqd = kFar;
-	c->ox = c->oy = 0;
+	const Ref r = ref(cx, cy);
+	if (!r || !(r.flags() & kOccupied)) return;
+	r.flags() = static_cast<uint8_t>((r.flags() & ~kOccupied) | kToRaise);
+	assign(r, kFar, 0, 0);
 	push(0, cx, cy);
 }
 
-bool DynamicDistanceMap::isObstacle(int cx, int cy) const
-{
-	const uint8_t* f = nullptr;
-	const Cell* c = cellPtr(cx, cy, &f);
-	return c && (*f & kOccupied);
-}
+bool DynamicDistanceMap::isObstacle(int cx, int cy) const { return occupied(cx, cy); }
 
 void DynamicDistanceMap::raise(int cx, int cy)
 {
 	for (const auto& d : kNeighbours)
 	{
 		const int nx = cx + d[0], ny = cy + d[1];
-		uint8_t* nf = nullptr;
-		Cell* n = cellPtr(nx, ny, &nf);
-		if (!n || n->sqd == kFar || (*nf & kToRaise)) continue;
-		const int key = n->sqd;
-		if (!isObstacle(nx + n->ox, ny + n->oy))
+		const Ref n = ref(nx, ny);
+		if (!n || n.cell().sqd == kFar || (n.flags() & kToRaise)) continue;
+		const int key = n.cell().sqd;
+		if (!occupied(nx + n.cell().ox, ny + n.cell().oy))
 		{
 			// n pointed at a vanished obstacle: invalidate it and carry the raise on.
-			n->sqd = kFar;
-			n->ox = n->oy = 0;
-			*nf |= kToRaise;
+			assign(n, kFar, 0, 0);
+			n.flags() |= kToRaise;
 		}
 		// Valid neighbours are re-queued so that their lower wave refills the raised area.
 		push(key, nx, ny);
 	}
-	uint8_t* f = nullptr;
-	if (cellPtr(cx, cy, &f)) *f &= static_cast<uint8_t>(~kToRaise);
+	if (const Ref r = ref(cx, cy)) r.flags() &= static_cast<uint8_t>(~kToRaise);
 }
 
 void DynamicDistanceMap::lower(int cx, int cy, const Cell& c)
@@ -191,12 +169,9 @@ void DynamicDistanceMap::lower(int cx, int cy, const Cell& c)
 		const int dx = obx - nx, dy = oby - ny;
 		const int sq = dx * dx + dy * dy;
 		if (sq > m_maxSq) continue;
-		uint8_t* nf = nullptr;
-		Cell* n = cellPtrAlloc(nx, ny, &nf);
-		if ((*nf & kToRaise) || sq >= n->sqd) continue;
-		n->sqd = sq;
-		n->ox = static_cast<int16_t>(dx);
-		n->oy = static_cast<int16_t>(dy);
+		const Ref n = refAlloc(nx, ny);
+		if ((n.flags() & kToRaise) || sq >= n.cell().sqd) continue;
+		assign(n, sq, dx, dy);
 		push(sq, nx, ny);
 	}
 }
@@ -213,14 +188,13 @@ std::size_t DynamicDistanceMap::update()
 		--m_queued;
 		++processed;
 
-		uint8_t* f = nullptr;
-		Cell* c = cellPtr(cx, cy, &f);
-		if (!c) continue;
-		if (*f & kToRaise)
+		const Ref r = ref(cx, cy);
+		if (!r) continue;
+		if (r.flags() & kToRaise)
 			raise(cx, cy);
-		else if (c->sqd != kFar && isObstacle(cx + c->ox, cy + c->oy))
+		else if (r.cell().sqd != kFar && occupied(cx + r.cell().ox, cy + r.cell().oy))
 		{
-			const Cell copy = *c;  // lower() may reallocate the directory, not the block
+			const Cell copy = r.cell();	 // lower() may reallocate the directory, not the block
 			lower(cx, cy, copy);
 		}
 		// Buckets only hold keys >= m_minBucket unless push() lowered it; push() keeps it exact.
@@ -231,21 +205,20 @@ std::size_t DynamicDistanceMap::update()
 
 int DynamicDistanceMap::squaredDistanceCells(int cx, int cy) const
 {
-	const Cell* c = cellPtr(cx, cy, nullptr);
-	if (!c || c->sqd == kFar) return -1;
-	return c->sqd;
+	const Ref r = ref(cx, cy);
+	if (!r || r.cell().sqd == kFar) return -1;
+	return r.cell().sqd;
 }
 
 float DynamicDistanceMap::cellDistance(int cx, int cy) const
 {
-	const Cell* c = cellPtr(cx, cy, nullptr);
-	if (!c || c->sqd == kFar) return static_cast<float>(m_maxDistance);
-	return m_sqrtLut[c->sqd];
+	const Ref r = ref(cx, cy);
+	return r ? r.block->dist[r.i] : static_cast<float>(m_maxDistance);
 }
 
 std::size_t DynamicDistanceMap::memoryBytes() const
 {
-	std::size_t bytes = m_blockCount * sizeof(Block) + m_dir.capacity() * sizeof(m_dir[0]) +
+	std::size_t bytes = (m_blockCount + 1) * sizeof(Block) + m_dir.capacity() * sizeof(m_dir[0]) +
 						m_sqrtLut.capacity() * sizeof(float);
 	for (const auto& b : m_buckets) bytes += b.capacity() * sizeof(b[0]) + sizeof(b);
 	return bytes;

@@ -89,30 +89,45 @@ class DynamicDistanceMap
 	{
 		static constexpr int N = kBlockSide * kBlockSide;
 		Cell cells[N];
+		// The truncated distance (m) of each cell, kept in step with cells[].sqd: the matcher
+		// reads 4 of these per point, and a plain float load beats a table look-up per sample.
+		float dist[N];
 		uint8_t flags[N];
-		Block()
+		explicit Block(float far)
 		{
 			for (auto& c : cells) c = Cell{kFar, 0, 0};
+			for (auto& d : dist) d = far;
 			for (auto& f : flags) f = 0;
 		}
 	};
-	float sampleDistance(const Block* b, int cx, int cy) const
-	{
-		if (!b) return static_cast<float>(m_maxDistance);
-		const int32_t s = b->cells[inBlock(cx, cy)].sqd;
-		return s == kFar ? static_cast<float>(m_maxDistance) : m_sqrtLut[s];
-	}
+	// Where the matcher looks: the block holding (cx, cy), or a shared all-far block where
+	// nothing was ever written, so the hot path has no null checks.
 	const Block* blockAt(int cx, int cy) const
 	{
-		const int bx = blockOf(cx) - m_bx0, by = blockOf(cy) - m_by0;
-		if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby) return nullptr;
-		return m_dir[std::size_t(by) * m_nbx + bx].get();
+		const unsigned bx = unsigned(blockOf(cx) - m_bx0), by = unsigned(blockOf(cy) - m_by0);
+		if (bx >= unsigned(m_nbx) || by >= unsigned(m_nby)) return m_farBlock.get();
+		const Block* b = m_dir[std::size_t(by) * m_nbx + bx].get();
+		return b ? b : m_farBlock.get();
+	}
+	/** A cell's storage: its block and index there (block null when not allocated). */
+	struct Ref
+	{
+		Block* block = nullptr;
+		int i = 0;
+		explicit operator bool() const { return block != nullptr; }
+		Cell& cell() const { return block->cells[i]; }
+		uint8_t& flags() const { return block->flags[i]; }
+	};
+	Ref ref(int cx, int cy) const;	// no allocation
+	Ref refAlloc(int cx, int cy);
+	void assign(const Ref& r, int32_t sqd, int ox, int oy)
+	{
+		r.block->cells[r.i] = Cell{sqd, static_cast<int16_t>(ox), static_cast<int16_t>(oy)};
+		r.block->dist[r.i] = sqd == kFar ? static_cast<float>(m_maxDistance) : m_sqrtLut[sqd];
 	}
 	static constexpr uint8_t kOccupied = 1, kToRaise = 2;
 
-	Cell* cellPtr(int cx, int cy, uint8_t** flags);	 // nullptr when not allocated
-	const Cell* cellPtr(int cx, int cy, const uint8_t** flags) const;
-	Cell* cellPtrAlloc(int cx, int cy, uint8_t** flags);
+	bool occupied(int cx, int cy) const;
 	void growDirectory(int bx, int by);
 	void push(int key, int cx, int cy);
 	void raise(int cx, int cy);
@@ -125,6 +140,7 @@ class DynamicDistanceMap
 
 	// Dense directory of block pointers over [m_bx0, m_bx0+m_nbx) × [m_by0, m_by0+m_nby).
 	std::vector<std::unique_ptr<Block>> m_dir;
+	std::unique_ptr<Block> m_farBlock;	// read-only stand-in for blocks never allocated
 	int m_bx0 = 0, m_by0 = 0, m_nbx = 0, m_nby = 0;
 	std::size_t m_blockCount = 0;
 
@@ -154,18 +170,18 @@ inline float DynamicDistanceMap::distanceAt(double x, double y, double* gradX, d
 	if (blockOf(i0) == blockOf(i0 + 1) && blockOf(j0) == blockOf(j0 + 1))
 	{
 		// Common case: all four samples in one block, one directory look-up.
-		const Block* b = blockAt(i0, j0);
-		d00 = sampleDistance(b, i0, j0);
-		d10 = sampleDistance(b, i0 + 1, j0);
-		d01 = sampleDistance(b, i0, j0 + 1);
-		d11 = sampleDistance(b, i0 + 1, j0 + 1);
+		const float* d = blockAt(i0, j0)->dist + inBlock(i0, j0);
+		d00 = d[0];
+		d10 = d[1];
+		d01 = d[kBlockSide];
+		d11 = d[kBlockSide + 1];
 	}
 	else
 	{
-		d00 = sampleDistance(blockAt(i0, j0), i0, j0);
-		d10 = sampleDistance(blockAt(i0 + 1, j0), i0 + 1, j0);
-		d01 = sampleDistance(blockAt(i0, j0 + 1), i0, j0 + 1);
-		d11 = sampleDistance(blockAt(i0 + 1, j0 + 1), i0 + 1, j0 + 1);
+		d00 = blockAt(i0, j0)->dist[inBlock(i0, j0)];
+		d10 = blockAt(i0 + 1, j0)->dist[inBlock(i0 + 1, j0)];
+		d01 = blockAt(i0, j0 + 1)->dist[inBlock(i0, j0 + 1)];
+		d11 = blockAt(i0 + 1, j0 + 1)->dist[inBlock(i0 + 1, j0 + 1)];
 	}
 	const double top = d00 + ax * (d10 - d00), bottom = d01 + ax * (d11 - d01);
 	if (gradX) *gradX = ((d10 - d00) * (1 - ay) + (d11 - d01) * ay) * m_invResolution;
