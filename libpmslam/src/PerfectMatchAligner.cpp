@@ -155,7 +155,8 @@ class CostFunction
    public:
 	CostFunction(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& pts,
 				 const PerfectMatchAligner::TConfigParams& o, const PerfectMatchAligner::PosePrior* prior = nullptr)
-		: m_map(map), m_pts(pts), m_step(std::max(1u, o.decimation)), m_s2(o.sigma * o.sigma), m_sigma(o.sigma),
+		: m_map(map), m_pts(pts), m_step(std::max(1u, o.decimation)), m_s2(o.sigma * o.sigma),
+		  m_invS2(1.0 / (o.sigma * o.sigma)), m_sigma(o.sigma),
 		  m_kernel(o.robustKernel), m_far(map.maxDistance() * (1.0 - 1e-6)), m_prior(prior)
 	{
 	}
@@ -172,25 +173,29 @@ class CostFunction
 	{
 		Evaluation e;
 		const double c = std::cos(x[2]), s = std::sin(x[2]);
-		double g0 = 0, g1 = 0, g2 = 0;	// gradient accumulated in scalars: the hot loop of RPROP
+		// Accumulated in locals, not in e: the compiler cannot keep a struct member that
+		// may alias in a register, and this is the hot loop of every RPROP iteration.
+		double g0 = 0, g1 = 0, g2 = 0, cost = 0;
+		const bool fastCost = (need & kCost) && !(need & (kNormal | kCurvature));
 		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
 		{
 			const double px = m_pts[i].x, py = m_pts[i].y;
 			const double rx = c * px - s * py, ry = s * px + c * py;  // rotated point
 			double gx, gy;
 			const double d = m_map.distanceAt(x[0] + rx, x[1] + ry, &gx, &gy);
-			const double denom = m_s2 + d * d;
-			// dΔ/d(x, y, θ): the map gradient chained through the endpoint's pose Jacobian.
+			const double ratio = 1.0 + d * d * m_invS2;	 // (σ² + Δ²) / σ²
+			// dΔ/d(x, y, θ): the map gradient chained through the endpoint's pose Jacobian;
+			// d ln(σ²+Δ²) / dΔ = 2Δ / (σ²+Δ²).
 			const double jth = -gx * ry + gy * rx;
-			const double k = 2.0 * d / denom;
+			const double k = 2.0 * d * m_invS2 / ratio;
 			g0 += k * gx;
 			g1 += k * gy;
 			g2 += k * jth;
+			if (fastCost) cost += fastLog(static_cast<float>(ratio));
+			if (!(need & (kNormal | kCurvature))) continue;
+			const double denom = m_s2 * ratio;
 			++e.n;
-			if (need & (kNormal | kCurvature))
-				e.cost += std::log1p(d * d / m_s2);
-			else if (need & kCost)
-				e.cost += fastLog(static_cast<float>(1.0 + d * d / m_s2));
+			cost += std::log1p(d * d * m_invS2);
 			if (need & kCurvature)
 			{
 				const Eigen::Vector3d J(gx, gy, jth);
@@ -220,6 +225,8 @@ class CostFunction
 				e.JtWr += w * d * J;
 			}
 		}
+		if (!(need & (kNormal | kCurvature))) e.n = (m_pts.size() + m_step - 1) / m_step;
+		e.cost = cost;
 		e.gradient = Eigen::Vector3d(g0, g1, g2);
 		if (m_prior) addPrior(x, need, e);
 		return e;
@@ -249,7 +256,7 @@ class CostFunction
 	const DynamicDistanceMap& m_map;
 	const std::vector<mrpt::math::TPoint2Df>& m_pts;
 	const std::size_t m_step;
-	const double m_s2, m_sigma;
+	const double m_s2, m_invS2, m_sigma;
 	const PerfectMatchAligner::RobustKernel m_kernel;
 	const double m_far;
 	const PerfectMatchAligner::PosePrior* m_prior;
