@@ -171,6 +171,7 @@ class CostFunction
 
 	Evaluation operator()(const Eigen::Vector3d& x, unsigned need) const
 	{
+		if (!(need & (kNormal | kCurvature))) return gradientAndFastCost(x, need & kCost);
 		Evaluation e;
 		const double c = std::cos(x[2]), s = std::sin(x[2]);
 		// Accumulated in locals, not in e: the compiler cannot keep a struct member that
@@ -229,6 +230,62 @@ class CostFunction
 		e.cost = cost;
 		e.gradient = Eigen::Vector3d(g0, g1, g2);
 		if (m_prior) addPrior(x, need, e);
+		return e;
+	}
+
+	// The RPROP iteration: gradient (and the approximate cost) only, in float cell units
+	// relative to the cell under the pose, so single precision stays exact to ~1e-4 cell
+	// however far the robot is from the origin. Same cost and gradient as the general path.
+	Evaluation gradientAndFastCost(const Eigen::Vector3d& x, bool withCost) const
+	{
+		Evaluation e;
+		const double inv = 1.0 / m_map.resolution();
+		const double u0 = x[0] * inv - 0.5, v0 = x[1] * inv - 0.5;	// cell-centre lattice
+		const float far = static_cast<float>(m_map.maxDistance());
+		double g0 = 0, g1 = 0, g2 = 0, cost = 0;
+		const std::size_t n = (m_pts.size() + m_step - 1) / m_step;
+		if (!(std::abs(u0) < 1e9 && std::abs(v0) < 1e9))
+		{
+			// Nowhere near anything mapped: every point at the truncation, no gradient.
+			e.n = n;
+			e.cost = withCost ? n * std::log1p(double(far) * far * m_invS2) : 0.0;
+			if (m_prior) addPrior(x, withCost ? kCost : kGradient, e);
+			return e;
+		}
+		const double bu = std::floor(u0), bv = std::floor(v0);
+		const int baseI = static_cast<int>(bu), baseJ = static_cast<int>(bv);
+		const float fu = static_cast<float>(u0 - bu), fv = static_cast<float>(v0 - bv);
+		const float cs = static_cast<float>(std::cos(x[2]) * inv), sn = static_cast<float>(std::sin(x[2]) * inv);
+		const float invS2 = static_cast<float>(m_invS2);
+		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
+		{
+			const float px = m_pts[i].x, py = m_pts[i].y;
+			const float ru = cs * px - sn * py, rv = sn * px + cs * py;	// rotated point, cells
+			const float u = fu + ru, v = fv + rv;
+			float d, dU = 0, dV = 0;
+			if (std::abs(u) < 1e8f && std::abs(v) < 1e8f)
+			{
+				int iu = static_cast<int>(u), iv = static_cast<int>(v);
+				iu -= u < static_cast<float>(iu);  // floor
+				iv -= v < static_cast<float>(iv);
+				d = m_map.sampleBilinear(baseI + iu, baseJ + iv, u - iu, v - iv, dU, dV);
+			}
+			else
+				d = far;
+			const float ratio = 1.0f + d * d * invS2;	 // (σ² + Δ²) / σ²
+			const float k = 2.0f * d * invS2 / ratio;  // d ln(σ²+Δ²) / dΔ
+			// Chain rule through the endpoint's pose Jacobian: ∂u/∂θ = −rv, ∂v/∂θ = ru (cells).
+			g0 += k * dU;
+			g1 += k * dV;
+			g2 += k * (dV * ru - dU * rv);
+			if (withCost) cost += fastLog(ratio);
+		}
+		e.n = n;
+		e.cost = cost;
+		// dU, dV and the θ term are per cell: ×1/resolution gives per metre (θ: cells × m/cell
+		// cancels to the same units as the general path).
+		e.gradient = Eigen::Vector3d(g0 * inv, g1 * inv, g2);
+		if (m_prior) addPrior(x, withCost ? kCost : kGradient, e);
 		return e;
 	}
 

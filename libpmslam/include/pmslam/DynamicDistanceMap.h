@@ -63,6 +63,20 @@ class DynamicDistanceMap
 	 * d distance / d x and d y). Safe anywhere: unknown space answers maxDistance(). */
 	float distanceAt(double x, double y, double* gradX = nullptr, double* gradY = nullptr) const;
 
+	/** The same bilinear sample in cell units, for callers that do their own (float)
+	 * coordinate arithmetic: the point at fraction (ax, ay) ∈ [0,1)² between the samples of
+	 * cells (i0, j0) and (i0+1, j0+1). Returns the distance (m); dU, dV receive its derivatives
+	 * per cell along x and y. */
+	float sampleBilinear(int i0, int j0, float ax, float ay, float& dU, float& dV) const
+	{
+		float d00, d10, d01, d11;
+		fetch4(i0, j0, d00, d10, d01, d11);
+		const float top = d00 + ax * (d10 - d00), bottom = d01 + ax * (d11 - d01);
+		dU = (d10 - d00) * (1 - ay) + (d11 - d01) * ay;
+		dV = bottom - top;
+		return top + ay * (bottom - top);
+	}
+
 	/** Cell index holding world coordinate v (metres). */
 	int worldToCell(double v) const;
 
@@ -125,6 +139,26 @@ class DynamicDistanceMap
 		r.block->cells[r.i] = Cell{sqd, static_cast<int16_t>(ox), static_cast<int16_t>(oy)};
 		r.block->dist[r.i] = sqd == kFar ? static_cast<float>(m_maxDistance) : m_sqrtLut[sqd];
 	}
+	// The samples of cells (i0, j0), (i0+1, j0), (i0, j0+1), (i0+1, j0+1).
+	void fetch4(int i0, int j0, float& d00, float& d10, float& d01, float& d11) const
+	{
+		if (blockOf(i0) == blockOf(i0 + 1) && blockOf(j0) == blockOf(j0 + 1))
+		{
+			// Common case: all four samples in one block, one directory look-up.
+			const float* d = blockAt(i0, j0)->dist + inBlock(i0, j0);
+			d00 = d[0];
+			d10 = d[1];
+			d01 = d[kBlockSide];
+			d11 = d[kBlockSide + 1];
+		}
+		else
+		{
+			d00 = blockAt(i0, j0)->dist[inBlock(i0, j0)];
+			d10 = blockAt(i0 + 1, j0)->dist[inBlock(i0 + 1, j0)];
+			d01 = blockAt(i0, j0 + 1)->dist[inBlock(i0, j0 + 1)];
+			d11 = blockAt(i0 + 1, j0 + 1)->dist[inBlock(i0 + 1, j0 + 1)];
+		}
+	}
 	static constexpr uint8_t kOccupied = 1, kToRaise = 2;
 
 	bool occupied(int cx, int cy) const;
@@ -167,22 +201,7 @@ inline float DynamicDistanceMap::distanceAt(double x, double y, double* gradX, d
 	j0 -= v < j0;
 	const double ax = u - i0, ay = v - j0;
 	float d00, d10, d01, d11;
-	if (blockOf(i0) == blockOf(i0 + 1) && blockOf(j0) == blockOf(j0 + 1))
-	{
-		// Common case: all four samples in one block, one directory look-up.
-		const float* d = blockAt(i0, j0)->dist + inBlock(i0, j0);
-		d00 = d[0];
-		d10 = d[1];
-		d01 = d[kBlockSide];
-		d11 = d[kBlockSide + 1];
-	}
-	else
-	{
-		d00 = blockAt(i0, j0)->dist[inBlock(i0, j0)];
-		d10 = blockAt(i0 + 1, j0)->dist[inBlock(i0 + 1, j0)];
-		d01 = blockAt(i0, j0 + 1)->dist[inBlock(i0, j0 + 1)];
-		d11 = blockAt(i0 + 1, j0 + 1)->dist[inBlock(i0 + 1, j0 + 1)];
-	}
+	fetch4(i0, j0, d00, d10, d01, d11);
 	const double top = d00 + ax * (d10 - d00), bottom = d01 + ax * (d11 - d01);
 	if (gradX) *gradX = ((d10 - d00) * (1 - ay) + (d11 - d01) * ay) * m_invResolution;
 	if (gradY) *gradY = (bottom - top) * m_invResolution;
