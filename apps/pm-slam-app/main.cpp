@@ -176,9 +176,7 @@ void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& sla
 	if (localizing) return;	 // the map is the fixed prior map: only the path over it is new
 	pmslam::saveMapPgmYaml(grid, at("map.pgm"), at("map.yaml"));
 	pmslam::saveGridMapGz(grid, at("map.gridmap.gz"));
-	mrpt::maps::CSimpleMap sm;
-	slam.getCurrentlyBuiltMap(sm);
-	pmslam::saveSimpleMapGz(sm, at("map.simplemap.gz"));
+	slam.saveSimpleMapGz(at("map.simplemap.gz"));
 }
 
 }  // namespace

@@ -81,7 +81,8 @@ void CMetricMapBuilderPM::initialize(const mrpt::maps::CSimpleMap& initialMap, c
 	m_grid = std::make_shared<OccupancyDistanceGridMap>(PM_options.grid);
 	m_metricMap.maps.clear();
 	m_metricMap.maps.push_back(m_grid);
-	m_simpleMap.clear();
+	m_initialKeyframes.clear();
+	m_keyframes.clear();
 	m_aligner.options = PM_params;
 	m_pose = x0 ? x0->getMeanVal().asTPose() : mrpt::math::TPose2D(0, 0, 0);
 	m_lastInsertPose = m_pose;
@@ -102,7 +103,7 @@ void CMetricMapBuilderPM::initialize(const mrpt::maps::CSimpleMap& initialMap, c
 				m_grid->insertScan(scanToPoints(*scan, PM_options.grid.scan), p);
 				m_mapEmpty = false;
 			}
-		if (PM_options.keepSimpleMap) m_simpleMap.insert(posePDF, sf);
+		if (PM_options.keepSimpleMap) m_initialKeyframes.insert(posePDF, sf);
 	}
 }
 
@@ -172,14 +173,7 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 			m_lastInsertPose = r.pose;
 			m_mapEmpty = false;
 			++m_inserted;
-			if (PM_options.keepSimpleMap)
-			{
-				auto sf = mrpt::obs::CSensoryFrame::Create();
-				sf->insert(mrpt::obs::CObservation2DRangeScan::Create(scan));
-				auto posePDF = mrpt::poses::CPose3DPDFGaussian::Create();
-				posePDF->mean = mrpt::poses::CPose3D(mrpt::poses::CPose2D(r.pose));
-				m_simpleMap.insert(posePDF, sf);
-			}
+			if (PM_options.keepSimpleMap) m_keyframes.add(r.pose, scan);
 		}
 	}
 	m_pose = r.pose;
@@ -225,9 +219,20 @@ mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderPM::getCurrentPoseEstimation() con
 	return pdf;
 }
 
-void CMetricMapBuilderPM::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const { out_map = m_simpleMap; }
+void CMetricMapBuilderPM::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const
+{
+	out_map = m_keyframes.toSimpleMap(m_initialKeyframes);
+}
 
-unsigned int CMetricMapBuilderPM::getCurrentlyBuiltMapSize() { return static_cast<unsigned>(m_simpleMap.size()); }
+unsigned int CMetricMapBuilderPM::getCurrentlyBuiltMapSize()
+{
+	return static_cast<unsigned>(m_initialKeyframes.size() + m_keyframes.size());
+}
+
+void CMetricMapBuilderPM::saveSimpleMapGz(const std::string& path) const
+{
+	m_keyframes.saveSimpleMapGz(path, m_initialKeyframes);
+}
 
 const mrpt::maps::CMultiMetricMap* CMetricMapBuilderPM::getCurrentlyBuiltMetricMap() const { return &m_metricMap; }
 

@@ -31,6 +31,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/slam/CMetricMapBuilder.h>
+#include <pmslam/KeyframeStore.h>
 #include <pmslam/OccupancyDistanceGridMap.h>
 #include <pmslam/PerfectMatchAligner.h>
 
@@ -130,6 +131,9 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	const ScanResult& lastScanResult() const { return m_last; }
 	mrpt::math::TPose2D currentPose() const { return m_pose; }
 	const OccupancyDistanceGridMap& grid() const { return *m_grid; }
+	/** Writes getCurrentlyBuiltMap()'s keyframes to a .simplemap.gz without materialising
+	 * them all at once (see KeyframeStore). */
+	void saveSimpleMapGz(const std::string& path) const;
 	std::size_t scansProcessed() const { return m_scans; }
 	std::size_t scansMatched() const { return m_matched; }
 	std::size_t scansInserted() const { return m_inserted; }
@@ -137,7 +141,8 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
    private:
 	std::shared_ptr<OccupancyDistanceGridMap> m_grid;
 	mrpt::maps::CMultiMetricMap m_metricMap;
-	mrpt::maps::CSimpleMap m_simpleMap;
+	mrpt::maps::CSimpleMap m_initialKeyframes;  // of initialize(initialMap), kept as given
+	KeyframeStore m_keyframes;	// the scans inserted since, compact
 	PerfectMatchAligner m_aligner;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	mrpt::math::TPose2D m_lastInsertPose{0, 0, 0};
