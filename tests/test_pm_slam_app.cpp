@@ -6,6 +6,8 @@
 #include <pmslam/RelativePoseEvaluation.h>
 #include <pmslam/Trajectory.h>
 
+#include <dlfcn.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -33,7 +35,7 @@ fs::path freshDir(const std::string& name)
 
 TEST(PmSlamApp, MapsTheMrptSampleLogAndWritesEveryOutput)
 {
-	if (!fs::exists(kSample)) GTEST_SKIP() << kSample << " not installed (comes with libmrpt-dev)";
+	if (!fs::exists(kSample)) GTEST_SKIP() << kSample << " not installed (package mrpt-common)";
 	const auto out = freshDir("sample");
 	const auto r = run(quote(kApp) + " --out " + quote(out.string()) + " " + quote(kSample));
 	ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -90,6 +92,34 @@ TEST(PmSlamApp, RejectsBadCommandLinesWithExitCode2)
 	EXPECT_NE(r.output.find("usage: pm-slam-app"), std::string::npos);
 	fs::remove_all(out);
 }
+
+// --gui must never cost a headless run: MRPT's GUI stack lives in a plugin loaded on demand.
+TEST(PmSlamApp, HeadlessRunsDoNotLinkTheGuiStackAndTheWindowPluginLoads)
+{
+	const auto ldd = run("ldd " + quote(kApp));
+	ASSERT_EQ(ldd.exitCode, 0) << ldd.output;
+	EXPECT_EQ(ldd.output.find("libmrpt-gui"), std::string::npos) << ldd.output;
+	EXPECT_EQ(ldd.output.find("libwx_"), std::string::npos);
+
+	const std::string plugin = PMSLAM_BINARY_DIR "/bin/libpmslam-viewer.so";
+	void* lib = ::dlopen(plugin.c_str(), RTLD_NOW | RTLD_LOCAL);
+	ASSERT_NE(lib, nullptr) << ::dlerror();
+	for (const char* sym : {"pmslam_viewer_open", "pmslam_viewer_show", "pmslam_viewer_wait_for_key", "pmslam_viewer_close"})
+		EXPECT_NE(::dlsym(lib, sym), nullptr) << sym;
+}
+
+TEST(PmSlamApp, GuiWithoutADisplayWarnsAndRunsHeadless)
+{
+	if (!fs::exists(kSample)) GTEST_SKIP() << kSample << " not installed (package mrpt-common)";
+	const auto out = freshDir("gui-headless");
+	const auto r = run("env -u DISPLAY -u WAYLAND_DISPLAY " + quote(kApp) + " --gui --max-scans 30 --quiet --out " +
+					   quote(out.string()) + " " + quote(kSample));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("--gui needs a display"), std::string::npos) << r.output;
+	EXPECT_TRUE(fs::exists(out / "trajectory.txt"));
+	fs::remove_all(out);
+}
+
 
 class BenchmarkLog : public ::testing::TestWithParam<std::string>
 {

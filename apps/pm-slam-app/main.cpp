@@ -5,7 +5,6 @@
  * Reads an MRPT .rawlog or a Carmen log, builds the map and the trajectory
  * scan by scan, and writes them to --out (see --help and README.md).
  */
-#include <mrpt/gui/CDisplayWindow.h>
 #include <pmslam/AtomicFile.h>
 #include <pmslam/CMetricMapBuilderPM.h>
 #include <pmslam/LogReader.h>
@@ -30,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "LiveViewer.h"
 #include "ProgressLine.h"
 
 namespace
@@ -257,13 +257,20 @@ int main(int argc, char** argv)
 		}
 	}
 
-	mrpt::gui::CDisplayWindow::Ptr window;
+	std::unique_ptr<pmslam_app::LiveViewer> window;
 	if (args.gui)
 	{
 		if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
 			std::cerr << "pm-slam-app: warning: --gui needs a display (DISPLAY is not set); running headless\n";
 		else
-			window = mrpt::gui::CDisplayWindow::Create("pm-slam-app: " + args.log);
+		{
+			window = std::make_unique<pmslam_app::LiveViewer>("pm-slam-app: " + args.log);
+			if (!window->isOpen())
+			{
+				std::cerr << "pm-slam-app: warning: --gui: " << window->error() << "; running headless\n";
+				window.reset();
+			}
+		}
 	}
 
 	pmslam::Trajectory traj;
@@ -300,7 +307,7 @@ int main(int argc, char** argv)
 					pose.composePoint(p.x, p.y, wx, wy);
 					scanInMap.emplace_back(wx, wy);
 				}
-				window->showImage(pmslam::renderMap(slam.grid(), traj, scanInMap));
+				window->show(pmslam::renderMap(slam.grid(), traj, scanInMap));
 				lastGui = std::chrono::steady_clock::now();
 			}
 			if (args.maxScans && traj.size() >= args.maxScans) break;
@@ -371,9 +378,9 @@ int main(int argc, char** argv)
 	}
 	if (window)
 	{
-		window->showImage(pmslam::renderMap(slam.grid(), traj));
+		window->show(pmslam::renderMap(slam.grid(), traj));
 		std::cout << "Close the window or press a key in it to exit.\n";
-		window->waitForKey();
+		window->waitForKey();  // returns at once when the window is closed
 	}
 	if (failed) return 1;
 	if (g_stop) return 130;
