@@ -367,8 +367,11 @@ int main(int argc, char** argv)
 					sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0);
 		// The process's peak includes MRPT's shared libraries (~100 MB mapped and relocated at
 		// start-up, before any data); the map's own memory is reported beside it.
-		std::printf("  peak memory %.1f MB (map: grid + distance layer %.1f MB)\n", pmslam::peakResidentMemoryMB(),
-					slam.grid().memoryBytes() / (1024.0 * 1024.0));
+		const auto now = pmslam::residentMemoryNow();
+		std::printf(
+			"  peak memory %.1f MB (at the end: %.1f MB own, %.1f MB mapped library files; map: grid + distance "
+			"layer %.1f MB)\n",
+			pmslam::peakResidentMemoryMB(), now.anonymousMB, now.fileMB, slam.grid().memoryBytes() / (1024.0 * 1024.0));
 		if (!args.localize.empty())
 			std::printf("  localised on %s (unchanged): %s/map.png, trajectory: %s/trajectory.txt\n",
 						args.localize.c_str(), args.out.c_str(), args.out.c_str());

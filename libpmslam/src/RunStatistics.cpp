@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <fstream>
+#include <string>
 
 namespace pmslam
 {
@@ -20,6 +22,21 @@ double peakResidentMemoryMB()
 	rusage ru{};
 	getrusage(RUSAGE_SELF, &ru);
 	return ru.ru_maxrss / 1024.0;  // Linux reports KiB
+}
+
+ResidentMemory residentMemoryNow()
+{
+	ResidentMemory m;
+	std::ifstream in("/proc/self/status");
+	std::string key;
+	double kib = 0;
+	while (in >> key)
+	{
+		if (key == "RssAnon:" && in >> kib) m.anonymousMB = kib / 1024.0;
+		else if (key == "RssFile:" && in >> kib) m.fileMB = kib / 1024.0;
+		in.ignore(1 << 16, '\n');
+	}
+	return m;
 }
 
 }  // namespace pmslam

@@ -11,4 +11,13 @@ double percentile(std::vector<double> values, double q);
 /** Peak resident memory of this process so far, in MiB. */
 double peakResidentMemoryMB();
 
+/** Resident memory now, in MiB, split into the process's own (anonymous: heap, stacks,
+ * relocated library data) and file-backed pages (mostly shared-library code, shared with
+ * every other process that maps it). Zeros where /proc is not available. */
+struct ResidentMemory
+{
+	double anonymousMB = 0, fileMB = 0;
+};
+ResidentMemory residentMemoryNow();
+
 }  // namespace pmslam
