@@ -54,6 +54,8 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(grid.scan.maxHitRange >= 0, "maxHitRange: expected >= 0 (0 = no limit)");
 	need(grid.scan.noReturnCarveRange >= 0, "noReturnCarveRange: expected >= 0 (0 = off)");
 	need(grid.freeCarveLength >= 0, "freeCarveLength: expected >= 0 m (0 = whole beam)");
+	need(grid.freeCarveMarginBeforeHit >= 0 && grid.freeCarveMarginBeforeHit <= 10,
+		 "freeCarveMarginBeforeHit: expected 0..10 m");
 	need(grid.joinHitsCloserThan >= 0, "joinHitsCloserThan: expected >= 0 m (0 = off)");
 }
 

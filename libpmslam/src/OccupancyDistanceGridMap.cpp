@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 namespace pmslam
 {
@@ -37,6 +38,7 @@ void OccupancyGridUpdateOptions::loadFromConfigFile(const mrpt::config::CConfigF
 	clampProbability = c.read_double(s, "clampProbability", clampProbability);
 	joinHitsCloserThan = c.read_double(s, "joinHitsCloserThan", joinHitsCloserThan);
 	freeCarveLength = c.read_double(s, "freeCarveLength", freeCarveLength);
+	freeCarveMarginBeforeHit = c.read_double(s, "freeCarveMarginBeforeHit", freeCarveMarginBeforeHit);
 	scan.minRange = c.read_double(s, "minRange", scan.minRange);
 	scan.maxHitRange = c.read_double(s, "maxHitRange", scan.maxHitRange);
 	scan.noReturnCarveRange = c.read_double(s, "noReturnCarveRange", scan.noReturnCarveRange);
@@ -48,6 +50,7 @@ void OccupancyGridUpdateOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nhitProbability = " << hitProbability << "\nmissProbability = " << missProbability
 		<< "\nclampProbability = " << clampProbability << "\njoinHitsCloserThan = " << joinHitsCloserThan
 		<< "\nfreeCarveLength = " << freeCarveLength
+		<< "\nfreeCarveMarginBeforeHit = " << freeCarveMarginBeforeHit
 		<< "\nminRange = " << scan.minRange
 		<< "\nmaxHitRange = " << scan.maxHitRange << "\nnoReturnCarveRange = " << scan.noReturnCarveRange << "\n";
 }
@@ -197,26 +200,37 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 	// Free space: every cell a beam crosses before its endpoint, or only the last
 	// freeCarveLength metres of it (the cells near the robot are crossed by many beams;
 	// a long beam adds little there but costs a cell visit per 5 cm).
-	const double carve = m_opts.freeCarveLength;
-	auto carveTo = [&](const mrpt::math::TPoint2Df& p) {
-		const auto [ix, iy] = cellOf(p);
-		int fx = sx, fy = sy;
-		if (carve > 0)
+	const double carve = m_opts.freeCarveLength, margin = m_opts.freeCarveMarginBeforeHit;
+	// Carves from the sensor (or freeCarveLength before the end) to `stopShort` metres
+	// before point p.
+	auto carveTo = [&](const mrpt::math::TPoint2Df& p, double stopShort) {
+		const double dx = double(p.x) - scan.sensorOrigin.x, dy = double(p.y) - scan.sensorOrigin.y;
+		const double len = std::hypot(dx, dy);
+		int ex, ey;
+		if (stopShort > 0)
 		{
-			const double dx = double(p.x) - scan.sensorOrigin.x, dy = double(p.y) - scan.sensorOrigin.y;
-			const double len = std::hypot(dx, dy);
-			if (len > carve)
-			{
-				const double t = 1.0 - carve / len;
-				const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
-				fx = x2idx(wx);
-				fy = y2idx(wy);
-			}
+			if (len <= stopShort || (carve > 0 && carve <= stopShort)) return;  // nothing left to carve
+			const double t = 1.0 - stopShort / len;
+			const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
+			ex = x2idx(wx);
+			ey = y2idx(wy);
 		}
-		line(fx, fy, ix, iy, m_missDelta);
+		else
+			std::tie(ex, ey) = cellOf(p);
+		int fx = sx, fy = sy;
+		if (carve > 0 && len > carve)
+		{
+			const double t = 1.0 - carve / len;
+			const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
+			fx = x2idx(wx);
+			fy = y2idx(wy);
+		}
+		line(fx, fy, ex, ey, m_missDelta);
 	};
-	for (const auto& p : scan.hits) carveTo(p);
-	for (const auto& p : scan.freeEnds) carveTo(p);
+	// A beam that ends on a wall seen at a grazing angle crosses the cells just in front of
+	// its endpoint that hold that same wall: stopping the carving short keeps such walls solid.
+	for (const auto& p : scan.hits) carveTo(p, margin);
+	for (const auto& p : scan.freeEnds) carveTo(p, 0.0);
 	m_distance.update();
 	m_is_empty = false;
 	return m_flips;

@@ -61,6 +61,7 @@ const Key kKeys[] = {
 	{"MappingApplication", "clampProbability", Type::Number},
 	{"MappingApplication", "joinHitsCloserThan", Type::Number},
 	{"MappingApplication", "freeCarveLength", Type::Number},
+	{"MappingApplication", "freeCarveMarginBeforeHit", Type::Number},
 	{"MappingApplication", "minRange", Type::Number},
 	{"MappingApplication", "maxHitRange", Type::Number},
 	{"MappingApplication", "noReturnCarveRange", Type::Number},

@@ -52,6 +52,10 @@ struct OccupancyGridUpdateOptions : public mrpt::config::CLoadableOptions
 	 * beam). Cells near the robot are crossed by many beams, so little is lost; far beams cost
 	 * a cell visit per 5 cm each. */
 	double freeCarveLength = 0.0;
+	/** Free space stops this far (m) before each return (0 = up to the return's cell). A beam
+	 * that ends on a wall seen at a grazing angle passes through the cells just in front of its
+	 * end that hold the same wall; carving them makes walls flicker between scans. */
+	double freeCarveMarginBeforeHit = 0.1;
 	ScanPointsOptions scan;	 ///< min/max ranges and free-space carving of no-return beams
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;

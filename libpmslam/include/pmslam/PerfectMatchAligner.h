@@ -62,7 +62,7 @@ class PerfectMatchAligner : public mrpt::slam::CMetricMapsAlignmentAlgorithm
 	{
 		Optimizer optimizer = Optimizer::RPROP;
 		RobustKernel robustKernel = RobustKernel::PerfectMatch;
-		double sigma = 0.1;	 ///< σ of the likelihood field (m)
+		double sigma = 0.055;  ///< σ of the likelihood field (m)
 		unsigned maxIterations = 60;  ///< optimiser iterations at most
 		double rpropInitialStepXY = 0.01;  ///< first RPROP step in x, y (m)
 		double rpropInitialStepPhi = 0.01;	///< first RPROP step in θ (rad)
