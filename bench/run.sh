@@ -243,7 +243,7 @@ done
 note "writing $results/results.md"
 cpu=$(awk -F': ' '/^model name/ {print $2; exit}' /proc/cpuinfo 2>/dev/null || true)
 commit=$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)
-if ! git -C "$repo" diff --quiet HEAD -- 2>/dev/null; then commit="$commit (with uncommitted changes)"; fi
+if ! git -C "$repo" diff --quiet HEAD -- . ":(exclude)bench/results" 2>/dev/null; then commit="$commit (with uncommitted changes)"; fi
 {
   echo "# pmslam vs MRPT ICP-SLAM on the Freiburg benchmark logs"
   echo
