@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <random>
+#include <tuple>
 
 #include "SyntheticWorld.h"
 
@@ -191,6 +192,68 @@ TEST(CMetricMapBuilderPM, SimpleMapRebuildsTheSameGrid)
 		}
 	EXPECT_GT(occupied, 100u);
 	EXPECT_EQ(differ, 0u);
+}
+
+// Matching and map insertion are decoupled: every scan that moved past the (small) matching
+// thresholds is matched, but the map only takes a scan after mapInsertLinDistance /
+// mapInsertAngDistance of motion since the last inserted one, or when much of the scan falls
+// outside what the map explains. With both at 0 every matched scan is inserted (the paper).
+TEST(CMetricMapBuilderPM, InsertsIntoTheMapOnlyAfterKeyframeMotionOrOnNewGround)
+{
+	const auto world = officeFloor();
+	const auto truth = loopPath();
+	auto runWith = [&](double lin, double angDeg, double belowInliers) {
+		pmslam::CMetricMapBuilderPM slam;
+		slam.PM_options.mapInsertLinDistance = lin;
+		slam.PM_options.mapInsertAngDistance = mrpt::DEG2RAD(angDeg);
+		slam.PM_options.mapInsertBelowInliers = belowInliers;
+		slam.initialize();
+		std::vector<TPose2D> inserted;
+		std::vector<double> inliersAtInsert;
+		for (std::size_t i = 0; i < truth.size(); ++i)
+		{
+			const auto& r = slam.processScan(world.scan(truth[i], 181, M_PI, 10.0, 0.01, unsigned(i + 1)), truth[i]);
+			if (r.inserted)
+			{
+				inserted.push_back(r.pose);
+				inliersAtInsert.push_back(r.info.inlierFraction);
+			}
+		}
+		return std::make_tuple(slam.scansMatched(), slam.scansInserted(), inserted, inliersAtInsert);
+	};
+
+	// The paper's behaviour: every matched scan (and the first one) is inserted.
+	const auto [matchedAll, insertedAll, posesAll, inliersAll] = runWith(0, 0, 0);
+	EXPECT_EQ(insertedAll, matchedAll + 1);
+
+	// Keyframes every 0.3 m / 6 deg only (no new-ground rule): far fewer insertions, the same matching,
+	// and consecutive inserted poses at least one threshold apart.
+	const auto [matched, insertedCount, poses, inliers] = runWith(0.3, 6, 0);
+	EXPECT_GT(matched, truth.size() * 9 / 10);
+	EXPECT_LT(insertedCount, matchedAll / 4);
+	for (std::size_t k = 1; k < poses.size(); ++k)
+	{
+		const double lin = positionError(poses[k], poses[k - 1]);
+		const double ang = std::abs(angleDiff(poses[k].phi, poses[k - 1].phi));
+		EXPECT_TRUE(lin >= 0.3 - 1e-9 || ang >= mrpt::DEG2RAD(6.0) - 1e-9)
+			<< "insertion " << k << " only " << lin << " m / " << mrpt::RAD2DEG(ang) << " deg after the previous one";
+	}
+
+	// The new-ground rule adds insertions exactly where the scan saw unmapped space.
+	const auto [matchedNg, insertedNg, posesNg, inliersNg] = runWith(0.3, 6, 0.95);
+	EXPECT_GT(insertedNg, insertedCount);
+	std::size_t closeAndNew = 0;
+	for (std::size_t k = 1; k < posesNg.size(); ++k)
+	{
+		const double lin = positionError(posesNg[k], posesNg[k - 1]);
+		const double ang = std::abs(angleDiff(posesNg[k].phi, posesNg[k - 1].phi));
+		if (lin < 0.3 && ang < mrpt::DEG2RAD(6.0))
+		{
+			++closeAndNew;
+			EXPECT_LT(inliersNg[k], 0.95) << "insertion " << k << " was neither far enough nor on new ground";
+		}
+	}
+	EXPECT_GT(closeAndNew, 0u);
 }
 
 TEST(CMetricMapBuilderPM, ActionObservationInterfaceUsesOdometryIncrements)

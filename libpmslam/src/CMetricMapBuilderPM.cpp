@@ -29,6 +29,10 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	insertionAngDistance = mrpt::DEG2RAD(
 		c.read_double(s, "insertionAngDistance_deg", mrpt::RAD2DEG(insertionAngDistance)));
 	minGoodness = c.read_double(s, "minGoodness", minGoodness);
+	mapInsertLinDistance = c.read_double(s, "mapInsertLinDistance", mapInsertLinDistance);
+	mapInsertAngDistance =
+		mrpt::DEG2RAD(c.read_double(s, "mapInsertAngDistance_deg", mrpt::RAD2DEG(mapInsertAngDistance)));
+	mapInsertBelowInliers = c.read_double(s, "mapInsertBelowInliers", mapInsertBelowInliers);
 	minPoints = static_cast<unsigned>(c.read_int(s, "minPoints", static_cast<int>(minPoints)));
 	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
 	odometryPriorSigmaPhi =
@@ -41,6 +45,10 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(insertionLinDistance >= 0 && insertionLinDistance <= 100, "insertionLinDistance: expected 0..100 m");
 	need(insertionAngDistance >= 0 && insertionAngDistance <= 2 * M_PI, "insertionAngDistance_deg: expected 0..360");
 	need(minGoodness >= 0 && minGoodness <= 1, "minGoodness: expected 0..1");
+	need(mapInsertLinDistance >= 0 && mapInsertAngDistance >= 0, "mapInsertLinDistance, mapInsertAngDistance_deg: expected >= 0");
+	need((mapInsertLinDistance > 0) == (mapInsertAngDistance > 0),
+		 "mapInsertLinDistance and mapInsertAngDistance_deg: set both (> 0) or neither (0)");
+	need(mapInsertBelowInliers >= 0 && mapInsertBelowInliers <= 1, "mapInsertBelowInliers: expected 0..1");
 	need(odometryPriorSigmaXY >= 0, "odometryPriorSigmaXY: expected >= 0 m (0 = no prior)");
 	need(odometryPriorSigmaPhi >= 0, "odometryPriorSigmaPhi_deg: expected >= 0 (0 = no prior)");
 	need((odometryPriorSigmaXY > 0) == (odometryPriorSigmaPhi > 0),
@@ -63,6 +71,9 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 {
 	out << "insertionLinDistance = " << insertionLinDistance
 		<< "\ninsertionAngDistance_deg = " << mrpt::RAD2DEG(insertionAngDistance) << "\nminGoodness = " << minGoodness
+		<< "\nmapInsertLinDistance = " << mapInsertLinDistance
+		<< "\nmapInsertAngDistance_deg = " << mrpt::RAD2DEG(mapInsertAngDistance)
+		<< "\nmapInsertBelowInliers = " << mapInsertBelowInliers
 		<< "\nminPoints = " << minPoints << "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
 		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi) << "\nkeepSimpleMap = " << keepSimpleMap
 		<< "\n";
@@ -88,6 +99,7 @@ void CMetricMapBuilderPM::initialize(const mrpt::maps::CSimpleMap& initialMap, c
 	m_aligner.options = PM_params;
 	m_pose = x0 ? x0->getMeanVal().asTPose() : mrpt::math::TPose2D(0, 0, 0);
 	m_lastInsertPose = m_pose;
+	m_lastMapPose = m_pose;
 	m_odometry.reset();
 	m_odometryAtLastScan.reset();
 	m_mapEmpty = true;
@@ -165,7 +177,20 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 		// A rejected match is not inserted either: its pose is only the odometry guess,
 		// and a scan at a wrong pose would corrupt the map for every later match.
 		const bool rejected = !m_mapEmpty && !r.matched;
-		const bool insert = options.enableMapUpdating && (m_mapEmpty || moved) && !pts.hits.empty() && !rejected;
+		bool insert = options.enableMapUpdating && (m_mapEmpty || moved) && !pts.hits.empty() && !rejected;
+		// Keyframe-like insertion: a scan the map already explains is matched but not inserted,
+		// so the map is not redrawn (and blurred) at every slightly drifted pose.
+		if (insert && !m_mapEmpty && PM_options.mapInsertLinDistance > 0)
+		{
+			const double ml = std::hypot(r.pose.x - m_lastMapPose.x, r.pose.y - m_lastMapPose.y);
+			const double ma = std::abs(mrpt::math::wrapToPi(r.pose.phi - m_lastMapPose.phi));
+			if (ml < PM_options.mapInsertLinDistance && ma < PM_options.mapInsertAngDistance &&
+				r.info.inlierFraction >= PM_options.mapInsertBelowInliers)
+			{
+				m_lastInsertPose = r.pose;	// the next match is gated from here
+				insert = false;
+			}
+		}
 		if (insert)
 		{
 			const auto t0 = Clock::now();
@@ -173,6 +198,7 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 			r.updateMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 			r.inserted = true;
 			m_lastInsertPose = r.pose;
+			m_lastMapPose = r.pose;
 			m_mapEmpty = false;
 			++m_inserted;
 			if (PM_options.keepSimpleMap) m_keyframes.add(r.pose, scan);

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/core/bits_math.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/math/TPoint2D.h>
@@ -51,6 +52,15 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected: the scan
 	 * keeps the odometry prediction and is not inserted (0 accepts every match). A good match scores 0.8–0.98. */
 	double minGoodness = 0.3;
+	/** Map insertion decoupled from matching: a matched scan is inserted into the grid only
+	 * once the robot moved mapInsertLinDistance (m) or turned mapInsertAngDistance (rad) since
+	 * the last insertion, or when fewer than mapInsertBelowInliers of its points lie within the
+	 * distance map's reach (new ground). 0 and 0 = insert every matched scan. Redrawing the map
+	 * at every slightly drifted pose blurs it and lets the newest evidence overwrite the oldest,
+	 * so a revisited place no longer pulls the robot back (intel: 0.031 -> 0.017 m). */
+	double mapInsertLinDistance = 0.3;
+	double mapInsertAngDistance = mrpt::DEG2RAD(6.0);
+	double mapInsertBelowInliers = 0.95;
 	/** Odometry prior of each match: standard deviations (m, rad) of the prediction's error
 	 * (0 = no prior, the plain PM cost). Along directions the scan cannot see (a corridor)
 	 * the pose then stays where odometry put it instead of sliding. */
@@ -146,6 +156,7 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	PerfectMatchAligner m_aligner;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	mrpt::math::TPose2D m_lastInsertPose{0, 0, 0};
+	mrpt::math::TPose2D m_lastMapPose{0, 0, 0};  // pose of the last scan inserted into the grid
 	std::optional<mrpt::math::TPose2D> m_odometry;	// latest reading
 	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
 	bool m_mapEmpty = true;
