@@ -35,7 +35,8 @@ TEST(Install, ExternalProjectBuildsAgainstTheInstalledPackage)
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	for (const char* f : {"include/pmslam/CMetricMapBuilderPM.h", "include/pmslam/PerfectMatchAligner.h",
 						  "include/pmslam/OccupancyDistanceGridMap.h", "include/pmslam/MapExport.h", "lib/libpmslam.a",
-						  "bin/pm-slam-app", "bin/pm-slam-eval", "share/pmslam/config/default.ini",
+						  "bin/pm-slam-app", "bin/pm-slam-eval", "lib/pmslam/libpmslam-viewer.so",
+						  "include/pmslam/KeyframeStore.h", "share/pmslam/config/default.ini",
 						  "share/pmslam/examples/external-project/CMakeLists.txt",
 						  "share/pmslam/examples/replace-icp/main.cpp", "lib/cmake/pmslam/pmslamConfig.cmake",
 						  "lib/cmake/pmslam/pmslamConfigVersion.cmake", "lib/cmake/pmslam/pmslamTargets.cmake"})
