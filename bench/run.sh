@@ -130,12 +130,15 @@ label() {
 }
 
 # --- runs -----------------------------------------------------------------------------------------------------------
-declare -A pm_config
+declare -A pm_config pm_config_file  # per log: its label in the table, and the INI file ("" = built-in defaults)
 for d in "${present[@]}"; do
   log="$datasets/$d/$d.clf"
-  cfg_args=(); pm_config[$d]="built-in defaults"
-  if [ -f "$repo/config/$d.ini" ]; then cfg_args=(--config "$repo/config/$d.ini"); pm_config[$d]="config/$d.ini"
-  elif [ -f "$repo/config/default.ini" ]; then cfg_args=(--config "$repo/config/default.ini"); pm_config[$d]="config/default.ini"; fi
+  pm_config[$d]="built-in defaults"; pm_config_file[$d]=""
+  for c in "config/$d.ini" config/default.ini; do
+    if [ -f "$repo/$c" ]; then pm_config[$d]="$c"; pm_config_file[$d]="$repo/$c"; break; fi
+  done
+  cfg_args=()
+  [ -z "${pm_config_file[$d]}" ] || cfg_args=(--config "${pm_config_file[$d]}")
   run_system "$d" pmslam 4 -- "$bin/pm-slam-app" "${cfg_args[@]}" --no-progress "$log"
   run_system "$d" icp-tuned 2 -- "$bin/pm-icp-slam" --config "$tuned_config" "$log"
   stock_cap=()
@@ -158,9 +161,12 @@ ini_value() {  # ini_value FILE SECTION KEY DEFAULT
 }
 for d in "${present[@]}"; do
   log="$datasets/$d/$d.clf"
-  cfg_args=(); cfg_file=""
-  case "${pm_config[$d]}" in config/*) cfg_file="$repo/${pm_config[$d]}"; cfg_args=(--config "$cfg_file");; esac
-  sigma=$(ini_value "$cfg_file" PerfectMatch sigma 0.1)
+  cfg_file="${pm_config_file[$d]}"
+  cfg_args=()
+  [ -z "$cfg_file" ] || cfg_args=(--config "$cfg_file")
+  # A key the file leaves out has its built-in default, which config/default.ini documents (a test keeps them equal).
+  sigma=$(ini_value "$cfg_file" PerfectMatch sigma "$(ini_value "$repo/config/default.ini" PerfectMatch sigma "")")
+  if [ -z "$sigma" ]; then note "$d: sigma unknown (no config/default.ini): sensitivity runs skipped"; continue; fi
   : >"$work/$d/sensitivity.txt"
   [ -f "$work/$d/pmslam/eval.json" ] && echo "1 $(json_num trans_mean_m "$work/$d/pmslam/eval.json") $(json_num rot_mean_deg "$work/$d/pmslam/eval.json")" >>"$work/$d/sensitivity.txt"
   for f in "${perturbations[@]}"; do

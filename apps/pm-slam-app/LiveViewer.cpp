@@ -2,7 +2,6 @@
 #include "LiveViewer.h"
 
 #include <dlfcn.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <vector>

@@ -58,7 +58,7 @@ DynamicDistanceMap::Ref DynamicDistanceMap::ref(int cx, int cy) const
 	return Ref{m_dir[std::size_t(by) * m_nbx + bx].get(), inBlock(cx, cy)};
 }
 
-bool DynamicDistanceMap::occupied(int cx, int cy) const
+bool DynamicDistanceMap::isObstacle(int cx, int cy) const
 {
 	const Ref r = ref(cx, cy);
 	return r && (r.flags() & kOccupied);
@@ -138,7 +138,6 @@ void DynamicDistanceMap::removeObstacle(int cx, int cy)
 	push(0, cx, cy);
 }
 
-bool DynamicDistanceMap::isObstacle(int cx, int cy) const { return occupied(cx, cy); }
 
 void DynamicDistanceMap::raise(int cx, int cy)
 {
@@ -148,7 +147,7 @@ void DynamicDistanceMap::raise(int cx, int cy)
 		const Ref n = ref(nx, ny);
 		if (!n || n.cell().sqd == kFar || (n.flags() & kToRaise)) continue;
 		const int key = n.cell().sqd;
-		if (!occupied(nx + n.cell().ox, ny + n.cell().oy))
+		if (!isObstacle(nx + n.cell().ox, ny + n.cell().oy))
 		{
 			// n pointed at a vanished obstacle: invalidate it and carry the raise on.
 			assign(n, kFar, 0, 0);
@@ -192,7 +191,7 @@ std::size_t DynamicDistanceMap::update()
 		if (!r) continue;
 		if (r.flags() & kToRaise)
 			raise(cx, cy);
-		else if (r.cell().sqd != kFar && occupied(cx + r.cell().ox, cy + r.cell().oy))
+		else if (r.cell().sqd != kFar && isObstacle(cx + r.cell().ox, cy + r.cell().oy))
 		{
 			const Cell copy = r.cell();	 // lower() may reallocate the directory, not the block
 			lower(cx, cy, copy);

@@ -1,14 +1,12 @@
 /* pmslam — compact keyframe store (see KeyframeStore.h). */
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
 #include <pmslam/KeyframeStore.h>
+#include <pmslam/MapExport.h>
 
-#include <cstdio>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace pmslam
 {
@@ -148,24 +146,7 @@ mrpt::maps::CSimpleMap KeyframeStore::toSimpleMap(const mrpt::maps::CSimpleMap& 
 
 void KeyframeStore::saveSimpleMapGz(const std::string& path, const mrpt::maps::CSimpleMap& prefix) const
 {
-	const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-	try
-	{
-		{
-			mrpt::io::CFileGZOutputStream f;
-			if (!f.open(tmp)) throw std::runtime_error("cannot write '" + path + "'");
-			const StreamedSimpleMap streamed(prefix, *this);
-			mrpt::serialization::archiveFrom(f) << static_cast<const mrpt::serialization::CSerializable&>(streamed);
-			f.close();
-		}
-		if (std::rename(tmp.c_str(), path.c_str()) != 0)
-			throw std::runtime_error("cannot write '" + path + "': rename of the temporary file failed");
-	}
-	catch (...)
-	{
-		std::remove(tmp.c_str());
-		throw;
-	}
+	pmslam::saveSimpleMapGz(StreamedSimpleMap(prefix, *this), path);
 }
 
 std::size_t KeyframeStore::memoryBytes() const

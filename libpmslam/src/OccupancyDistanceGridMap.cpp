@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <tuple>
+#include <utility>
 
 namespace pmslam
 {
@@ -206,25 +206,15 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 	auto carveTo = [&](const mrpt::math::TPoint2Df& p, double stopShort) {
 		const double dx = double(p.x) - scan.sensorOrigin.x, dy = double(p.y) - scan.sensorOrigin.y;
 		const double len = std::hypot(dx, dy);
-		int ex, ey;
-		if (stopShort > 0)
-		{
-			if (len <= stopShort || (carve > 0 && carve <= stopShort)) return;  // nothing left to carve
-			const double t = 1.0 - stopShort / len;
+		// The cell `back` metres before p on the beam.
+		auto cellBefore = [&](double back) {
+			const double t = 1.0 - back / len;
 			const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
-			ex = x2idx(wx);
-			ey = y2idx(wy);
-		}
-		else
-			std::tie(ex, ey) = cellOf(p);
-		int fx = sx, fy = sy;
-		if (carve > 0 && len > carve)
-		{
-			const double t = 1.0 - carve / len;
-			const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
-			fx = x2idx(wx);
-			fy = y2idx(wy);
-		}
+			return std::pair<int, int>(x2idx(wx), y2idx(wy));
+		};
+		if (stopShort > 0 && (len <= stopShort || (carve > 0 && carve <= stopShort))) return;  // nothing left
+		const auto [ex, ey] = stopShort > 0 ? cellBefore(stopShort) : cellOf(p);
+		const auto [fx, fy] = carve > 0 && len > carve ? cellBefore(carve) : std::pair<int, int>(sx, sy);
 		line(fx, fy, ex, ey, m_missDelta);
 	};
 	// A beam that ends on a wall seen at a grazing angle crosses the cells just in front of

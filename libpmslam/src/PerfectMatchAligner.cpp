@@ -174,10 +174,7 @@ class CostFunction
 		if (!(need & (kNormal | kCurvature))) return gradientAndFastCost(x, need & kCost);
 		Evaluation e;
 		const double c = std::cos(x[2]), s = std::sin(x[2]);
-		// Accumulated in locals, not in e: the compiler cannot keep a struct member that
-		// may alias in a register, and this is the hot loop of every RPROP iteration.
 		double g0 = 0, g1 = 0, g2 = 0, cost = 0;
-		const bool fastCost = (need & kCost) && !(need & (kNormal | kCurvature));
 		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
 		{
 			const double px = m_pts[i].x, py = m_pts[i].y;
@@ -192,11 +189,10 @@ class CostFunction
 			g0 += k * gx;
 			g1 += k * gy;
 			g2 += k * jth;
-			if (fastCost) cost += fastLog(static_cast<float>(ratio));
-			if (!(need & (kNormal | kCurvature))) continue;
 			const double denom = m_s2 * ratio;
+			const double pointCost = std::log1p(d * d / m_s2);
 			++e.n;
-			cost += std::log1p(d * d * m_invS2);
+			cost += pointCost;
 			if (need & kCurvature)
 			{
 				const Eigen::Vector3d J(gx, gy, jth);
@@ -212,7 +208,7 @@ class CostFunction
 				{
 					case PerfectMatchAligner::RobustKernel::PerfectMatch:
 						w = m_s2 / denom;
-						e.kernelCost += std::log1p(d * d / m_s2);
+						e.kernelCost += pointCost;
 						break;
 					case PerfectMatchAligner::RobustKernel::None:
 						e.kernelCost += d * d / m_s2;
@@ -226,7 +222,6 @@ class CostFunction
 				e.JtWr += w * d * J;
 			}
 		}
-		if (!(need & (kNormal | kCurvature))) e.n = (m_pts.size() + m_step - 1) / m_step;
 		e.cost = cost;
 		e.gradient = Eigen::Vector3d(g0, g1, g2);
 		if (m_prior) addPrior(x, need, e);

@@ -161,7 +161,6 @@ class DynamicDistanceMap
 	}
 	static constexpr uint8_t kOccupied = 1, kToRaise = 2;
 
-	bool occupied(int cx, int cy) const;
 	void growDirectory(int bx, int by);
 	void push(int key, int cx, int cy);
 	void raise(int cx, int cy);
