@@ -61,6 +61,14 @@ void operator delete[](void* p, std::size_t) noexcept { release(p); }
 
 namespace
 {
+// An object MRPT spins on is given up after 2 s, well inside libFuzzer's -timeout.
+pmslam::LogReaderOptions options()
+{
+	pmslam::LogReaderOptions o;
+	o.rawlogObjectTimeout = 2.0;
+	return o;
+}
+
 void readAll(pmslam::LogReader& reader)
 {
 	std::size_t warnings = 0;
@@ -87,7 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 	const std::string path = pmslam::fuzz::memoryFile(data, size);
 	// Straight to the rawlog reader: every input reaches the object reader.
 	{
-		pmslam::RawlogReader reader(path);
+		pmslam::RawlogReader reader(path, options());
 		(void)reader.estimatedScanCount();
 		readAll(reader);
 	}
@@ -95,7 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 	std::unique_ptr<pmslam::LogReader> reader;
 	try
 	{
-		reader = pmslam::LogReader::open(path);
+		reader = pmslam::LogReader::open(path, options());
 	}
 	catch (const pmslam::LogError& e)
 	{

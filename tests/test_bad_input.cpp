@@ -7,11 +7,13 @@
 #include <pmslam/MapExport.h>
 #include <pmslam/Trajectory.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
 #include <thread>
 
 #include "RunProgram.h"
@@ -247,6 +249,44 @@ TEST(BadInput, OutputFolderUnusableIsDetectedBeforeProcessing)
 	EXPECT_EQ(entries, 2u);
 }
 
+/** A 64 KiB tmpfs mounted on `dir` for the test's lifetime (needs root in a mount namespace that allows it). */
+struct TinyFileSystem
+{
+	std::string dir;
+	bool mounted = false;
+	explicit TinyFileSystem(const std::string& d) : dir(d)
+	{
+		fs::create_directories(dir);
+		mounted = ::mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=64k") == 0;
+	}
+	~TinyFileSystem()
+	{
+		if (mounted) ::umount2(dir.c_str(), MNT_DETACH);
+	}
+};
+
+TEST(BadInput, OutputFolderWithoutFreeSpaceIsDetectedBeforeProcessing)
+{
+	ScratchDir d("bad-out-full");
+	const auto log = d.write("room.clf", roomCarmen(30));
+	TinyFileSystem tiny(d.path("tiny"));
+	if (!tiny.mounted) GTEST_SKIP() << "cannot mount a small tmpfs here (needs root): " << std::strerror(errno);
+	// Room for a probe file, not for the outputs.
+	auto r = app("--out " + quote(tiny.dir + "/out") + " " + quote(log));
+	expectRefusal(r, {"--out " + tiny.dir + "/out", "not enough free space", "64 KB free, at least", "KB needed"});
+	EXPECT_FALSE(fs::exists(tiny.dir + "/out")) << "the refused --out folder is left behind";
+	// Completely full: not even the probe can be written.
+	{
+		std::ofstream fill(tiny.dir + "/fill", std::ios::binary);
+		const std::string block(4096, 'x');
+		for (int i = 0; i < 64 && fill.write(block.data(), block.size()); ++i)
+		{
+		}
+	}
+	r = app("--out " + quote(tiny.dir) + " " + quote(log));
+	expectRefusal(r, {"--out " + tiny.dir, "is not writable", "No space left on device"});
+}
+
 // ---------------------------------------------------------------- damage inside a log
 
 TEST(BadInput, MalformedCarmenLinesAreSkippedCountedAndNamed)
@@ -317,6 +357,29 @@ TEST(BadInput, GarbageAfterARawlogIsReportedAndEverythingBeforeIsMapped)
 	EXPECT_TRUE(contains(r.output, "warning: " + log + ": damaged after object 100 (")) << r.output;
 	EXPECT_EQ(summaryScans(r.output), 50u) << r.output;
 	expectCompleteOutputs(out, 50);
+}
+
+TEST(BadInput, RawlogObjectThatCrashesMrptIsWhereTheLogEnds)
+{
+	// An action found by fuzzing on which CActionRobotMovement2D::serializeFrom (MRPT 2.5.8)
+	// dereferences a null pointer; read in-process it kills the program.
+	const std::string crash = readText(PMSLAM_SOURCE_DIR "/fuzz/corpus/fuzz_rawlog/mrpt-segv-in-CActionRobotMovement2D");
+	ASSERT_GT(crash.size(), 100u);
+	ScratchDir d("bad-mrpt-crash");
+	const auto full = roomRawlog(d, "full.rawlog", 40);
+	const auto log = d.write("crash.rawlog", readText(full) + crash);
+	const auto out = d.path("out");
+	const auto r = app("--no-progress --out " + quote(out) + " " + quote(log));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_TRUE(contains(r.output, "warning: " + log + ": damaged after object 80 (MRPT crashed reading it (signal 11"))
+		<< r.output;
+	EXPECT_EQ(summaryScans(r.output), 40u) << r.output;
+	expectCompleteOutputs(out, 40);
+
+	// The same object first in the file: refused like any unreadable rawlog.
+	const auto alone = d.write("alone.rawlog", crash);
+	expectRefusal(app("--no-progress --out " + quote(out) + " " + quote(alone)),
+				  {alone, "is not a readable MRPT rawlog", "MRPT crashed reading it"});
 }
 
 TEST(BadInput, RawlogScanWithoutAValidBeamIsSkipped)

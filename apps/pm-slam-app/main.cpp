@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -225,7 +226,10 @@ int main(int argc, char** argv)
 	}
 	try
 	{
-		pmslam::checkDirectoryWritable(args.out);
+		// A floor, not a forecast: the map files grow with the mapped area, unknown yet, but a
+		// trajectory and timing line per scan and the smallest map files need at least this.
+		const std::uint64_t needed = (std::uint64_t(1) << 20) + 128 * std::uint64_t(reader->estimatedScanCount());
+		pmslam::checkDirectoryWritable(args.out, needed);
 	}
 	catch (const std::exception& e)
 	{

@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -144,14 +145,16 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 	syncDirectory(parentDirectory(path));
 }
 
-void checkDirectoryWritable(const std::string& dirIn)
+void checkDirectoryWritable(const std::string& dirIn, std::uint64_t bytesNeeded)
 {
 	const std::string dir = dirIn.empty() ? std::string(".") : dirIn;
 	std::error_code ec;
+	bool created = false;
 	if (!std::filesystem::exists(dir, ec))
 	{
 		std::filesystem::create_directories(dir, ec);
 		if (ec) throw std::runtime_error("cannot create directory '" + dir + "': " + ec.message());
+		created = true;
 	}
 	if (!std::filesystem::is_directory(dir, ec))
 		throw std::runtime_error("output directory '" + dir + "' exists but is not a directory");
@@ -175,6 +178,18 @@ void checkDirectoryWritable(const std::string& dirIn)
 	if (writeErr != 0 || closeErr != 0)
 		throw std::runtime_error("directory '" + dir +
 								 "' is not writable: " + osError(writeErr != 0 ? writeErr : closeErr));
+	struct statvfs fs;
+	if (bytesNeeded > 0 && ::statvfs(dir.c_str(), &fs) == 0)
+	{
+		const std::uint64_t avail = std::uint64_t(fs.f_bavail) * fs.f_frsize;
+		auto kb = [](std::uint64_t b) { return std::to_string((b + 1023) / 1024) + " KB"; };
+		if (avail < bytesNeeded)
+		{
+			if (created) std::filesystem::remove(dir, ec);	// leave nothing behind for a refused run
+			throw std::runtime_error("not enough free space in '" + dir + "': " + kb(avail) + " free, at least " +
+									 kb(bytesNeeded) + " needed for the outputs");
+		}
+	}
 }
 
 }  // namespace pmslam

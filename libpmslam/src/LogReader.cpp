@@ -19,6 +19,8 @@
 #include <system_error>
 #include <utility>
 
+#include "RawlogProbe.h"
+
 namespace pmslam
 {
 LogReader::LogReader(std::string path)
@@ -156,8 +158,16 @@ bool looksLikeText(const std::string& head)
 }
 
 /** True if the file starts with an MRPT-serialized rawlog object; else the reason. */
-bool startsWithRawlogObject(const std::string& path, std::string& reason, bool& exceptionText)
+bool startsWithRawlogObject(const std::string& path, double objectTimeout, std::string& reason, bool& exceptionText)
 {
+	// MRPT may crash or hang on a damaged first object: read it here only if a child could.
+	RawlogProbe probe(path, objectTimeout);
+	if (!probe.safeToRead(1))
+	{
+		reason = probe.failure().empty() ? "no object" : probe.failure();
+		exceptionText = probe.failedWithException();
+		return false;
+	}
 	try
 	{
 		mrpt::io::CFileGZInputStream in;
@@ -222,7 +232,7 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 	if (!text || ext == ".rawlog")
 	{
 		bool exceptionText = false;
-		if (startsWithRawlogObject(path, why, exceptionText)) return std::make_unique<RawlogReader>(path, opts);
+		if (startsWithRawlogObject(path, opts.rawlogObjectTimeout, why, exceptionText)) return std::make_unique<RawlogReader>(path, opts);
 		if (exceptionText) why = "first object unreadable: " + exceptionSummary(why);
 		if (ext == ".rawlog") throw LogError("pmslam: '" + path + "' is not a readable MRPT rawlog (" + why + ")");
 	}

@@ -15,6 +15,8 @@
 #include <pmslam/CarmenLogReader.h>
 #include <pmslam/RawlogReader.h>
 
+#include "RawlogProbe.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -110,6 +112,7 @@ std::string badGeometry(const mrpt::obs::CObservation2DRangeScan& s)
 struct RawlogReader::Impl
 {
 	LogReaderOptions opts;
+	std::unique_ptr<RawlogProbe> probe;  // runs ahead: only objects it got through are read here
 	mrpt::io::CFileGZInputStream in;
 	std::unique_ptr<mrpt::serialization::CArchive> arch;
 	std::deque<LogEvent> queue;
@@ -153,6 +156,7 @@ RawlogReader::RawlogReader(const std::string& path, const LogReaderOptions& opts
 	{
 	}
 	if (!ok) throw LogError("pmslam: cannot open rawlog '" + path + "' for reading");
+	m_impl->probe = std::make_unique<RawlogProbe>(path, opts.rawlogObjectTimeout);
 	m_impl->arch = mrpt::serialization::archiveUniquePtrFrom(m_impl->in);
 }
 
@@ -170,8 +174,13 @@ std::size_t RawlogReader::estimatedScanCount() const
 		auto arch = mrpt::serialization::archiveFrom(in);
 		std::size_t scans = 0;
 		bool atEnd = false;
-		for (int k = 0; k < 400 && in.getPosition() < (8u << 20); ++k)
+		for (std::size_t k = 0; k < 400 && in.getPosition() < (8u << 20); ++k)
 		{
+			if (!d.probe->safeToRead(k + 1))
+			{
+				atEnd = true;
+				break;
+			}
 			mrpt::serialization::CSerializable::Ptr obj;
 			try
 			{
@@ -213,6 +222,16 @@ bool RawlogReader::next(LogEvent& ev)
 		const std::uint64_t pos0 = d.in.getPosition();
 		mrpt::serialization::CSerializable::Ptr obj;
 		std::string failure;
+		if (!d.probe->safeToRead(d.objects + 1))
+		{
+			// MRPT would crash, hang, throw or exhaust memory on the next object: stop before it.
+			d.flushHeld(d.lastTs);
+			d.done = true;
+			const std::string& why = d.probe->failure();
+			warn(m_path + ": damaged after object " + std::to_string(d.objects) + " (" +
+				 (d.probe->failedWithException() ? exceptionSummary(why) : why) + "), stopping");
+			continue;
+		}
 		try
 		{
 			obj = d.arch->ReadObject();

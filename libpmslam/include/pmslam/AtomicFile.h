@@ -11,6 +11,7 @@
  */
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <ostream>
 #include <string>
@@ -25,8 +26,9 @@ namespace pmslam
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& writer);
 
 /** Create `dir` (with its parents) if missing and check that a file can be
- * written in it. Throws std::runtime_error with a one-line message otherwise.
+ * written in it and that its file system has at least `bytesNeeded` free.
+ * Throws std::runtime_error with a one-line message otherwise.
  * An empty string means the current directory. */
-void checkDirectoryWritable(const std::string& dir);
+void checkDirectoryWritable(const std::string& dir, std::uint64_t bytesNeeded = 0);
 
 }  // namespace pmslam

@@ -81,6 +81,9 @@ struct LogReaderOptions
 	/** Carmen: emit ODOM lines as Odometry events (if a log has no ODOM line
 	 * at all, use LogEvent::scanOdometry instead). */
 	bool useOdomLines = true;
+	/** Rawlog: a child process reads each object first (see RawlogReader.h); one that
+	 * takes longer than this (s) counts as damage, as MRPT's readers can spin on it. */
+	double rawlogObjectTimeout = 10.0;
 };
 
 /** Thrown by LogReader::open() and the reader constructors: one line naming

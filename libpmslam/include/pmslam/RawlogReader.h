@@ -25,6 +25,15 @@
  * before it has been delivered. (zlib ignores bytes appended after a complete
  * gzip stream, so garbage after a gz-compressed rawlog goes unnoticed.)
  *
+ * MRPT's deserialisers can also crash or spin on damaged bytes (seen: a null
+ * dereference and an endless odometry-sampling loop in
+ * CActionRobotMovement2D::serializeFrom). So a child process reads the file
+ * first, a little ahead (see src/RawlogProbe.h), and this reader stops, with
+ * the same one warning, before the first object the child did not get through
+ * ("MRPT crashed reading it (signal 11, ...)", "did not finish reading it
+ * within 10 s", or the exception). The child is limited to 4 GiB more address
+ * space than the process had, so a damaged length cannot exhaust memory.
+ *
  * MRPT's Carmen importer defects (see CarmenLogReader.h) are inherited by
  * rawlogs made with carmen2rawlog: scans labelled FLASER/RLASER with
  * aperture = N × 0.5°. Such scans get the Carmen fan geometry and the
