@@ -50,7 +50,8 @@ note "building Release in $build"
 mkdir -p "$build"
 build_log="$build/bench-build.log"
 cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release >"$build_log" 2>&1 || { tail -n 40 "$build_log" >&2; die "cmake configure failed (full log: $build_log)"; }
-cmake --build "$build" -j2 --target pm-slam-app pm-icp-slam pm-slam-eval pm-relation-errors >>"$build_log" 2>&1 \
+cmake --build "$build" -j2 --target pm-slam-app pm-icp-slam pm-slam-eval pm-relation-errors \
+  mrpt-memory-floor-maps mrpt-memory-floor-slam >>"$build_log" 2>&1 \
   || { tail -n 40 "$build_log" >&2; die "build failed (full log: $build_log)"; }
 
 have_time=0
@@ -292,6 +293,16 @@ if ! git -C "$repo" diff --quiet HEAD -- . ":(exclude)bench/results" 2>/dev/null
     echo "![trajectories](${d}_trajectory.png) ![errors](${d}_errors.png) ![time per scan](${d}_time_per_scan.png)"
     echo
   done
+  if [ $have_time = 1 ]; then
+    floor() { /usr/bin/time -v "$bin/$1" 2>&1 >/dev/null | awk -F: '/Maximum resident set size/ {printf "%.1f", $2/1024}'; }
+    echo "## Memory floor of MRPT 2.5 on this machine"
+    echo
+    echo "Peak RSS of programs that do nothing but create MRPT objects (\`bench/mrpt_memory_floor.cpp\`): an empty"
+    echo "\`COccupancyGridMap2D\` (links mrpt-maps): $(floor mrpt-memory-floor-maps) MB; that and a \`CICP\` (links"
+    echo "mrpt-slam, where \`CMetricMapsAlignmentAlgorithm\` and \`CMetricMapBuilder\` live): $(floor mrpt-memory-floor-slam) MB."
+    echo "pm-slam-app needs both; what it holds above that is its own (the summary line of each run splits it)."
+    echo
+  fi
   echo "## Sensitivity of pmslam (same configuration, sigma x 0.998 / 0.999 / 1 / 1.001 / 1.002)"
   echo
   echo "Online SLAM without loop closure is chaotic: one match that turns out slightly differently changes the map"
