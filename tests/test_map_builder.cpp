@@ -168,6 +168,90 @@ TEST(CMetricMapBuilderPM, CorrectsDriftingOdometryOnSyntheticLoop)
 	EXPECT_GT(double(onWall) / built, 0.95) << onWall << " of " << built << " obstacle cells within a cell of a wall";
 }
 
+// Odometry read every 0.15 s, each scan stamped 0.1 s after the latest reading and carrying
+// a copy of it (as aces's FLASER lines): with odometryToScanTime the scan's odometry is
+// extrapolated to its timestamp minus scanLatency; a bursty stream (intel) is left alone.
+TEST(CMetricMapBuilderPM, OdometryAtTheScanTime)
+{
+	const auto world = officeFloor();
+	const double speed = 0.4;  // m/s along x
+	auto odoAt = [&](double t) { return TPose2D(speed * t, 0, 0); };
+	for (const bool enabled : {true, false})
+		for (const bool bursty : {false, true})
+		{
+			pmslam::CMetricMapBuilderPM slam;
+			slam.PM_options.odometryToScanTime = enabled;
+			slam.PM_options.scanLatency = 0.08;
+			slam.initialize();
+			for (int k = 0; k < 40; ++k)
+			{
+				const double t = 10.0 + 0.15 * k;
+				if (bursty) slam.processOdometry(odoAt(t - 0.001), t - 0.001);	// a second reading 1 ms before
+				slam.processOdometry(odoAt(t), t);
+				auto scan = world.scan(TPose2D(speed * (t + 0.02), 0, 0), 181, M_PI, 10.0);
+				scan.timestamp = mrpt::Clock::fromDouble(t + 0.1);
+				const auto& r = slam.processScan(scan, odoAt(t));
+				ASSERT_TRUE(r.odometry);
+				const double expected = enabled && !bursty && k >= 9 ? speed * (t + 0.1 - 0.08) : speed * t;
+				EXPECT_NEAR(r.odometry->x, expected, 1e-6) << "enabled " << enabled << " bursty " << bursty << " k " << k;
+				if (enabled && !bursty && k >= 9)
+				{
+					// A scan with odometry of its own (not the latest reading) keeps it.
+					pmslam::CMetricMapBuilderPM other;
+					other.PM_options.odometryToScanTime = true;
+					other.initialize();
+					other.processOdometry(odoAt(t - 0.15), t - 0.15);
+					other.processOdometry(odoAt(t), t);
+					EXPECT_EQ(other.processScan(scan, odoAt(t + 0.05)).odometry->x, speed * (t + 0.05));
+					break;
+				}
+			}
+		}
+}
+
+// With odometrySmoothing every scan gets exactly one smoothed pose, in order, the last ones
+// when asked to finish; without it none.
+TEST(CMetricMapBuilderPM, SmoothedPosesCoverEveryScan)
+{
+	const auto world = officeFloor();
+	const auto truth = loopPath();
+	for (const bool smoothing : {true, false})
+	{
+		pmslam::CMetricMapBuilderPM slam;
+		slam.PM_options.odometrySmoothing = smoothing;
+		slam.PM_options.odometrySmoothingLag = 3;
+		slam.initialize();
+		std::vector<std::size_t> got;
+		for (std::size_t i = 0; i < 300; ++i)
+		{
+			const auto& r = slam.processScan(world.scan(truth[i], 181, M_PI, 10.0, 0.01, unsigned(i + 1)), truth[i]);
+			for (const auto& [k, p] : slam.takeSmoothedPoses())
+			{
+				got.push_back(k);
+				EXPECT_LT(std::hypot(p.x - (CPose2D(truth[k]) - CPose2D(truth[0])).x(),
+									 p.y - (CPose2D(truth[k]) - CPose2D(truth[0])).y()),
+						  0.1);
+			}
+			if (smoothing && i >= 3)
+			{
+				EXPECT_EQ(got.size(), i - 2) << "final 3 scans later";
+			}
+			(void)r;
+		}
+		for (const auto& kp : slam.takeSmoothedPoses(true)) got.push_back(kp.first);
+		if (!smoothing)
+		{
+			EXPECT_TRUE(got.empty());
+		}
+		else
+		{
+			ASSERT_EQ(got.size(), 300u);
+			for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], i);
+			ASSERT_NE(slam.smoother(), nullptr);
+		}
+	}
+}
+
 TEST(CMetricMapBuilderPM, SimpleMapRebuildsTheSameGrid)
 {
 	const auto world = officeFloor();

@@ -290,13 +290,15 @@ int main(int argc, char** argv)
 		{
 			if (ev.kind == pmslam::LogEvent::Kind::Odometry)
 			{
-				if (cfg.odometrySource != pmslam::OdometrySource::Scan) slam.processOdometry(ev.odometry);
+				if (cfg.odometrySource != pmslam::OdometrySource::Scan) slam.processOdometry(ev.odometry, ev.timestamp);
 				continue;
 			}
 			std::optional<mrpt::math::TPose2D> odo;
 			if (ev.scanHasOdometry && cfg.odometrySource != pmslam::OdometrySource::Events) odo = ev.scanOdometry;
 			const auto& r = slam.processScan(*ev.scan, odo);
 			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
+			for (const auto& [i, p] : slam.takeSmoothedPoses())
+				if (i < traj.size()) traj[i].x = p.x, traj[i].y = p.y, traj[i].yaw = p.phi;
 			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.matched, r.inserted, r.info.nIterations,
 							  r.info.goodness});
 			progress.update(traj.size());
@@ -323,6 +325,9 @@ int main(int argc, char** argv)
 		failure = e.what();
 	}
 	progress.clear();
+	// The last scans' smoothed poses wait for a look-ahead that will not come.
+	for (const auto& [i, p] : slam.takeSmoothedPoses(true))
+		if (i < traj.size()) traj[i].x = p.x, traj[i].y = p.y, traj[i].yaw = p.phi;
 	const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
 	if (traj.empty() && !g_stop && !failed)

@@ -21,6 +21,10 @@ namespace pmslam
 namespace
 {
 constexpr double kMaxOdometryStep = 10.0;  // m between two consecutive scans
+// odometryToScanTime: two readings closer in time than this are a burst (no usable velocity),
+// farther apart than kMaxOdometryGap a pause; a scan this far beyond the newest reading is
+// extrapolated no further than kMaxOdometryGap.
+constexpr double kMinOdometryGap = 0.01, kMaxOdometryGap = 0.5;  // s
 }
 
 void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
@@ -37,6 +41,11 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
 	odometryPriorSigmaPhi =
 		mrpt::DEG2RAD(c.read_double(s, "odometryPriorSigmaPhi_deg", mrpt::RAD2DEG(odometryPriorSigmaPhi)));
+	odometrySmoothing = c.read_bool(s, "odometrySmoothing", odometrySmoothing);
+	odometrySmoothingLag =
+		static_cast<unsigned>(c.read_int(s, "odometrySmoothingLag", static_cast<int>(odometrySmoothingLag)));
+	odometryToScanTime = c.read_bool(s, "odometryToScanTime", odometryToScanTime);
+	scanLatency = c.read_double(s, "scanLatency", scanLatency);
 	keepSimpleMap = c.read_bool(s, "keepSimpleMap", keepSimpleMap);
 	grid.loadFromConfigFile(c, s);
 	auto need = [](bool ok, const std::string& what) {
@@ -53,6 +62,8 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(odometryPriorSigmaPhi >= 0, "odometryPriorSigmaPhi_deg: expected >= 0 (0 = no prior)");
 	need((odometryPriorSigmaXY > 0) == (odometryPriorSigmaPhi > 0),
 		 "odometryPriorSigmaXY and odometryPriorSigmaPhi_deg: set both (> 0) or neither (0)");
+	need(odometrySmoothingLag <= 100, "odometrySmoothingLag: expected 0..100 scans");
+	need(scanLatency >= 0 && scanLatency <= 1, "scanLatency: expected 0..1 s");
 	need(grid.resolution >= 0.005 && grid.resolution <= 2, "resolution: expected 0.005..2 m");
 	need(grid.maxDistance > grid.resolution && grid.maxDistance <= 10, "maxDistance: expected resolution..10 m");
 	need(grid.hitProbability > 0.5 && grid.hitProbability < 1, "hitProbability: expected (0.5, 1)");
@@ -75,7 +86,10 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nmapInsertAngDistance_deg = " << mrpt::RAD2DEG(mapInsertAngDistance)
 		<< "\nmapInsertBelowInliers = " << mapInsertBelowInliers
 		<< "\nminPoints = " << minPoints << "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
-		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi) << "\nkeepSimpleMap = " << keepSimpleMap
+		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi)
+		<< "\nodometryToScanTime = " << odometryToScanTime << "\nscanLatency = " << scanLatency
+		<< "\nodometrySmoothing = " << odometrySmoothing << "\nodometrySmoothingLag = " << odometrySmoothingLag
+		<< "\nkeepSimpleMap = " << keepSimpleMap
 		<< "\n";
 	grid.dumpToTextStream(out);
 }
@@ -101,7 +115,17 @@ void CMetricMapBuilderPM::initialize(const mrpt::maps::CSimpleMap& initialMap, c
 	m_lastInsertPose = m_pose;
 	m_lastMapPose = m_pose;
 	m_odometry.reset();
+	m_timedOdometry[0].reset();
+	m_timedOdometry[1].reset();
+	m_timedReadings = m_burstReadings = 0;
 	m_odometryAtLastScan.reset();
+	m_smoother.reset();
+	if (PM_options.odometrySmoothing)
+	{
+		OdometrySmootherOptions so;
+		so.lag = PM_options.odometrySmoothingLag;
+		m_smoother.emplace(so);
+	}
 	m_mapEmpty = true;
 	m_scans = m_matched = m_inserted = 0;
 	m_last = ScanResult();
@@ -121,7 +145,38 @@ void CMetricMapBuilderPM::initialize(const mrpt::maps::CSimpleMap& initialMap, c
 	}
 }
 
-void CMetricMapBuilderPM::processOdometry(const mrpt::math::TPose2D& odometry) { m_odometry = odometry; }
+void CMetricMapBuilderPM::processOdometry(const mrpt::math::TPose2D& odometry, double timestamp)
+{
+	m_odometry = odometry;
+	if (!std::isfinite(timestamp)) return;
+	++m_timedReadings;
+	if (m_timedOdometry[1] && timestamp - m_timedOdometry[1]->first < kMinOdometryGap) ++m_burstReadings;
+	// A reading that does not advance in time (bursts, logs stepping back) is no velocity sample.
+	if (m_timedOdometry[1] && timestamp <= m_timedOdometry[1]->first)
+	{
+		m_timedOdometry[0].reset();
+		m_timedOdometry[1] = {timestamp, odometry};
+		return;
+	}
+	m_timedOdometry[0] = m_timedOdometry[1];
+	m_timedOdometry[1] = {{timestamp, odometry}};
+}
+
+std::optional<mrpt::math::TPose2D> CMetricMapBuilderPM::odometryAtTime(double t) const
+{
+	if (!m_timedOdometry[0] || !m_timedOdometry[1] || !std::isfinite(t)) return std::nullopt;
+	if (m_timedReadings < 10 || 20 * m_burstReadings > m_timedReadings) return std::nullopt;  // bursty stream
+	const auto& [ta, pa] = *m_timedOdometry[0];
+	const auto& [tb, pb] = *m_timedOdometry[1];
+	const double gap = tb - ta;
+	if (gap < kMinOdometryGap || gap > kMaxOdometryGap) return std::nullopt;
+	// Constant velocity over the last interval, from the newer reading, at most kMaxOdometryGap
+	// ahead (and never before the older reading).
+	const double f = std::clamp((t - tb) / gap, -1.0, kMaxOdometryGap / gap);
+	const mrpt::poses::CPose2D d = mrpt::poses::CPose2D(pb) - mrpt::poses::CPose2D(pa);
+	const mrpt::poses::CPose2D step(f * d.x(), f * d.y(), f * d.phi());
+	return (mrpt::poses::CPose2D(pb) + step).asTPose();
+}
 
 const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 	const mrpt::obs::CObservation2DRangeScan& scan, const std::optional<mrpt::math::TPose2D>& odometryAtScan)
@@ -132,7 +187,12 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 	ScanResult r;
 
 	// Predict: apply the odometry increment since the previous scan to the current estimate.
-	const std::optional<mrpt::math::TPose2D> odomNow = odometryAtScan ? odometryAtScan : m_odometry;
+	std::optional<mrpt::math::TPose2D> odomNow = odometryAtScan ? odometryAtScan : m_odometry;
+	// A scan's own odometry that is just the latest reading copied carries no timing of its own.
+	const bool copied = !odometryAtScan || (m_odometry && odometryAtScan->x == m_odometry->x &&
+											odometryAtScan->y == m_odometry->y && odometryAtScan->phi == m_odometry->phi);
+	if (PM_options.odometryToScanTime && copied && scan.timestamp != INVALID_TIMESTAMP)
+		if (const auto o = odometryAtTime(mrpt::Clock::toDouble(scan.timestamp) - PM_options.scanLatency)) odomNow = o;
 	r.predicted = m_pose;
 	if (odomNow && m_odometryAtLastScan)
 	{
@@ -146,6 +206,7 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 													<< " m between two scans: ignored (constant-position prediction)");
 	}
 	if (odomNow) m_odometryAtLastScan = odomNow;
+	r.odometry = odomNow;
 	r.pose = r.predicted;
 
 	const double lin = std::hypot(r.predicted.x - m_lastInsertPose.x, r.predicted.y - m_lastInsertPose.y);
@@ -205,15 +266,26 @@ const CMetricMapBuilderPM::ScanResult& CMetricMapBuilderPM::processScan(
 		}
 	}
 	m_pose = r.pose;
+	if (m_smoother) m_smoother->add(m_scans - 1, r.pose, r.odometry);
 	m_last = r;
 	return m_last;
+}
+
+std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> CMetricMapBuilderPM::takeSmoothedPoses(bool finish)
+{
+	std::lock_guard<std::mutex> lock(critZoneChangingMap);
+	if (!m_smoother) return {};
+	if (finish) m_smoother->finish();
+	return m_smoother->takeFinal();
 }
 
 void CMetricMapBuilderPM::processObservation(const mrpt::obs::CObservation::Ptr& obs)
 {
 	if (!obs) return;
 	if (const auto* odo = dynamic_cast<const mrpt::obs::CObservationOdometry*>(obs.get()))
-		processOdometry(odo->odometry.asTPose());
+		processOdometry(odo->odometry.asTPose(), odo->timestamp != INVALID_TIMESTAMP
+													 ? mrpt::Clock::toDouble(odo->timestamp)
+													 : std::nan(""));
 	else if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(obs.get()))
 		processScan(*scan);
 }

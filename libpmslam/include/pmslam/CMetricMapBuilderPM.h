@@ -33,11 +33,15 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/slam/CMetricMapBuilder.h>
 #include <pmslam/KeyframeStore.h>
+#include <pmslam/OdometrySmoother.h>
 #include <pmslam/OccupancyDistanceGridMap.h>
 #include <pmslam/PerfectMatchAligner.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace pmslam
 {
@@ -66,6 +70,23 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * the pose then stays where odometry put it instead of sliding. */
 	double odometryPriorSigmaXY = 0.0;
 	double odometryPriorSigmaPhi = 0.0;
+	/** Odometry at the scan's time: when a scan comes without odometry of its own, or with a
+	 * copy of the latest odometry reading (Carmen loggers that stamp FLASER lines with the last
+	 * ODOM message: aces, intel), the odometry is extrapolated from the last two timed readings
+	 * to the scan's timestamp minus scanLatency. A reading ~0.15 s old at 0.4 m/s is 6 cm
+	 * stale along the track. Off: the latest reading as it is. Causal: no future reading used.
+	 * Not done for a bursty stream (more than 5 % of readings under 10 ms apart, as in intel):
+	 * its timestamps are delivery times and say nothing about when the robot was where. */
+	bool odometryToScanTime = true;
+	/** The scan was taken this long (s) before its timestamp (serial transfer of a SICK LMS at
+	 * 38.4 kbaud takes ~0.1 s). Only with odometryToScanTime. */
+	double scanLatency = 0.08;
+	/** Reported trajectory: fuse each scan's pose with the odometry increments (OdometrySmoother;
+	 * noise levels learned online), final odometrySmoothingLag scans later. The map and the
+	 * predictions keep the matched poses, so odometry drift never enters the map.
+	 * Read the poses with takeSmoothedPoses(). */
+	bool odometrySmoothing = true;
+	unsigned odometrySmoothingLag = 3;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
@@ -90,6 +111,7 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	{
 		mrpt::math::TPose2D pose;  ///< robot pose assigned to the scan (map frame)
 		mrpt::math::TPose2D predicted;	///< odometry prediction it started from
+		std::optional<mrpt::math::TPose2D> odometry;  ///< the odometry reading used for the scan (its own frame)
 		bool matched = false, inserted = false;
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
 		std::size_t cellsFlipped = 0;
@@ -131,12 +153,19 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	void processObservation(const mrpt::obs::CObservation::Ptr& obs);
 
 	// --- direct entry points (what the above call) ---
-	/** Latest odometry reading of the robot base (any frame; only increments are used). */
-	void processOdometry(const mrpt::math::TPose2D& odometry);
+	/** Latest odometry reading of the robot base (any frame; only increments are used), with
+	 * its time (s; NaN = unknown) for odometryToScanTime. */
+	void processOdometry(const mrpt::math::TPose2D& odometry, double timestamp = std::nan(""));
 	/** Processes one scan; `odometryAtScan`, when given, is the odometry at the scan's time
 	 * (Carmen FLASER lines carry it) and takes precedence over processOdometry() readings. */
 	const ScanResult& processScan(const mrpt::obs::CObservation2DRangeScan& scan,
 								  const std::optional<mrpt::math::TPose2D>& odometryAtScan = std::nullopt);
+
+	/** With odometrySmoothing: the scans whose reported pose became final since the last call,
+	 * oldest first, as (scan number from 0 in processScan() order, pose). With `finish`, every
+	 * pose still waiting for its look-ahead is finalised too (end of the log). */
+	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> takeSmoothedPoses(bool finish = false);
+	const OdometrySmoother* smoother() const { return m_smoother ? &*m_smoother : nullptr; }
 
 	const ScanResult& lastScanResult() const { return m_last; }
 	mrpt::math::TPose2D currentPose() const { return m_pose; }
@@ -158,7 +187,12 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	mrpt::math::TPose2D m_lastInsertPose{0, 0, 0};
 	mrpt::math::TPose2D m_lastMapPose{0, 0, 0};  // pose of the last scan inserted into the grid
 	std::optional<mrpt::math::TPose2D> m_odometry;	// latest reading
+	// The last two timed readings (time s, pose), oldest first, for odometryToScanTime.
+	std::optional<std::pair<double, mrpt::math::TPose2D>> m_timedOdometry[2];
+	std::size_t m_timedReadings = 0, m_burstReadings = 0;
+	std::optional<mrpt::math::TPose2D> odometryAtTime(double t) const;
 	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
+	std::optional<OdometrySmoother> m_smoother;
 	bool m_mapEmpty = true;
 	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0;
 	ScanResult m_last;
