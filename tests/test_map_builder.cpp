@@ -169,8 +169,9 @@ TEST(CMetricMapBuilderPM, CorrectsDriftingOdometryOnSyntheticLoop)
 }
 
 // Odometry read every 0.15 s, each scan stamped 0.1 s after the latest reading and carrying
-// a copy of it (as aces's FLASER lines): with odometryToScanTime the scan's odometry is
-// extrapolated to its timestamp minus scanLatency; a bursty stream (intel) is left alone.
+// a copy of it (as aces's FLASER lines): with odometryToScanTime the scan's odometry given to the
+// smoother is extrapolated to its timestamp minus scanLatency; a bursty stream (intel) is left
+// alone; the prediction always follows the readings as they are.
 TEST(CMetricMapBuilderPM, OdometryAtTheScanTime)
 {
 	const auto world = officeFloor();
@@ -183,6 +184,7 @@ TEST(CMetricMapBuilderPM, OdometryAtTheScanTime)
 			slam.PM_options.odometryToScanTime = enabled;
 			slam.PM_options.scanLatency = 0.08;
 			slam.initialize();
+			TPose2D previous;
 			for (int k = 0; k < 40; ++k)
 			{
 				const double t = 10.0 + 0.15 * k;
@@ -194,6 +196,12 @@ TEST(CMetricMapBuilderPM, OdometryAtTheScanTime)
 				ASSERT_TRUE(r.odometry);
 				const double expected = enabled && !bursty && k >= 9 ? speed * (t + 0.1 - 0.08) : speed * t;
 				EXPECT_NEAR(r.odometry->x, expected, 1e-6) << "enabled " << enabled << " bursty " << bursty << " k " << k;
+				// The first extrapolated scan: its reading moved by 0.15 s of travel, not 0.17 s.
+				if (k == 9)
+				{
+					EXPECT_NEAR(r.predicted.x - previous.x, speed * 0.15, 1e-9);
+				}
+				previous = r.pose;
 				if (enabled && !bursty && k >= 9)
 				{
 					// A scan with odometry of its own (not the latest reading) keeps it.

@@ -70,11 +70,14 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * the pose then stays where odometry put it instead of sliding. */
 	double odometryPriorSigmaXY = 0.0;
 	double odometryPriorSigmaPhi = 0.0;
-	/** Odometry at the scan's time: when a scan comes without odometry of its own, or with a
-	 * copy of the latest odometry reading (Carmen loggers that stamp FLASER lines with the last
-	 * ODOM message: aces, intel), the odometry is extrapolated from the last two timed readings
-	 * to the scan's timestamp minus scanLatency. A reading ~0.15 s old at 0.4 m/s is 6 cm
-	 * stale along the track. Off: the latest reading as it is. Causal: no future reading used.
+	/** Odometry at the scan's time, for the reported trajectory's smoother: when a scan comes
+	 * without odometry of its own, or with a copy of the latest odometry reading (Carmen loggers
+	 * that stamp FLASER lines with the last ODOM message: aces, intel), the odometry given to the
+	 * smoother is extrapolated from the last two timed readings to the scan's timestamp minus
+	 * scanLatency. A reading ~0.15 s old at 0.4 m/s is 6 cm stale along the track. The
+	 * prediction of the match keeps the reading as it is (moving it too made loop closure on
+	 * aces less reliable, for no gain). Off: the latest reading as it is. Causal: no future
+	 * reading used.
 	 * Not done for a bursty stream (more than 5 % of readings under 10 ms apart, as in intel):
 	 * its timestamps are delivery times and say nothing about when the robot was where. */
 	bool odometryToScanTime = true;
@@ -111,7 +114,7 @@ class CMetricMapBuilderPM : public mrpt::slam::CMetricMapBuilder
 	{
 		mrpt::math::TPose2D pose;  ///< robot pose assigned to the scan (map frame)
 		mrpt::math::TPose2D predicted;	///< odometry prediction it started from
-		std::optional<mrpt::math::TPose2D> odometry;  ///< the odometry reading used for the scan (its own frame)
+		std::optional<mrpt::math::TPose2D> odometry;  ///< odometry at the scan's time, as the smoother got it (its own frame)
 		bool matched = false, inserted = false;
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
 		std::size_t cellsFlipped = 0;
