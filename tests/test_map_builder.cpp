@@ -7,6 +7,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/CMetricMapBuilderPM.h>
 #include <pmslam/LogReader.h>
+#include <pmslam/PerfectMatchAligner.h>
 
 #include <filesystem>
 #include <random>

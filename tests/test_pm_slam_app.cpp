@@ -94,12 +94,16 @@ TEST(PmSlamApp, RejectsBadCommandLinesWithExitCode2)
 }
 
 // --gui must never cost a headless run: MRPT's GUI stack lives in a plugin loaded on demand.
-TEST(PmSlamApp, HeadlessRunsDoNotLinkTheGuiStackAndTheWindowPluginLoads)
+TEST(PmSlamApp, HeadlessRunsLinkNeitherTheGuiStackNorMrptSlamAndTheWindowPluginLoads)
 {
 	const auto ldd = run("ldd " + quote(kApp));
 	ASSERT_EQ(ldd.exitCode, 0) << ldd.output;
 	EXPECT_EQ(ldd.output.find("libmrpt-gui"), std::string::npos) << ldd.output;
 	EXPECT_EQ(ldd.output.find("libwx_"), std::string::npos);
+	// Nor MRPT's SLAM library and what it pulls in (OpenCV's feature and video modules, ...):
+	// pm-slam-app maps with PerfectMatchSlam, not the CMetricMapBuilder wrapper (~30 MB less).
+	EXPECT_EQ(ldd.output.find("libmrpt-slam"), std::string::npos) << ldd.output;
+	EXPECT_EQ(ldd.output.find("libmrpt-vision"), std::string::npos) << ldd.output;
 
 	const std::string plugin = PMSLAM_BINARY_DIR "/bin/libpmslam-viewer.so";
 	void* lib = ::dlopen(plugin.c_str(), RTLD_NOW | RTLD_LOCAL);

@@ -56,7 +56,7 @@ TEST(SlamConfig, OverridesApply)
 									"PerfectMatch.optimizer=GaussNewton", "Log.odometrySource=events"});
 	EXPECT_DOUBLE_EQ(c.matcher.sigma, 0.2);
 	EXPECT_NEAR(c.mapping.insertionAngDistance, 10 * M_PI / 180, 1e-12);
-	EXPECT_EQ(c.matcher.optimizer, pmslam::PerfectMatchAligner::Optimizer::GaussNewton);
+	EXPECT_EQ(c.matcher.optimizer, pmslam::PerfectMatchMatcher::Optimizer::GaussNewton);
 	EXPECT_EQ(c.odometrySource, pmslam::OdometrySource::Events);
 }
 

@@ -15,7 +15,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/CarmenLogReader.h>
 #include <pmslam/OccupancyDistanceGridMap.h>
-#include <pmslam/PerfectMatchAligner.h>
+#include <pmslam/PerfectMatchMatcher.h>
 #include <pmslam/RelativePoseEvaluation.h>
 #include <pmslam/ScanPoints.h>
 #include <pmslam/Trajectory.h>
@@ -74,7 +74,7 @@ int main(int argc, char** argv)
 		if (files.size() == 3)
 			for (const auto& p : pmslam::loadTrajectory(files[2])) slam[key(p.timestamp)] = CPose2D(p.x, p.y, p.yaw);
 
-		pmslam::PerfectMatchAligner aligner;
+		pmslam::PerfectMatchMatcher aligner;
 		std::vector<std::vector<double>> rows;	// match a/c, odo a/c, slam a/c
 		for (const auto& r : relations)
 		{

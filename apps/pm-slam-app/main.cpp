@@ -6,7 +6,7 @@
  * scan by scan, and writes them to --out (see --help and README.md).
  */
 #include <pmslam/AtomicFile.h>
-#include <pmslam/CMetricMapBuilderPM.h>
+#include <pmslam/PerfectMatchSlam.h>
 #include <pmslam/LogReader.h>
 #include <pmslam/RunStatistics.h>
 #include <pmslam/MapExport.h>
@@ -156,7 +156,7 @@ struct ScanTiming
 	double goodness;
 };
 
-void writeOutputs(const std::string& dir, const pmslam::CMetricMapBuilderPM& slam, const pmslam::Trajectory& traj,
+void writeOutputs(const std::string& dir, const pmslam::PerfectMatchSlam& slam, const pmslam::Trajectory& traj,
 				  const std::vector<ScanTiming>& timing, const std::string& header, bool localizing)
 {
 	namespace fs = std::filesystem;
@@ -244,7 +244,7 @@ int main(int argc, char** argv)
 		std::cerr << "pm-slam-app: warning: " << w << "\n";
 	};
 
-	pmslam::CMetricMapBuilderPM slam;
+	pmslam::PerfectMatchSlam slam;
 	slam.PM_options = cfg.mapping;
 	slam.PM_params = cfg.matcher;
 	slam.initialize();

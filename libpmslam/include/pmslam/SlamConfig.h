@@ -1,7 +1,7 @@
 /* pmslam — the whole configuration of a SLAM run, from INI text.
  *
  * Sections (all optional; see config/default.ini for every key and default):
- *   [PerfectMatch]        the matcher (PerfectMatchAligner::TConfigParams)
+ *   [PerfectMatch]        the matcher (PerfectMatchMatcher::TConfigParams)
  *   [MappingApplication]  the builder and its grid (MapBuilderOptions)
  *   [Log]                 how logs are read (LogReaderOptions, odometry source)
  * Unknown sections and keys, values of the wrong type and values out of range
@@ -11,9 +11,9 @@
  */
 #pragma once
 
-#include <pmslam/CMetricMapBuilderPM.h>
+#include <pmslam/PerfectMatchSlam.h>
 #include <pmslam/LogReader.h>
-#include <pmslam/PerfectMatchAligner.h>
+#include <pmslam/PerfectMatchMatcher.h>
 
 #include <stdexcept>
 #include <string>
@@ -37,7 +37,7 @@ enum class OdometrySource
 
 struct SlamConfig
 {
-	PerfectMatchAligner::TConfigParams matcher;
+	PerfectMatchMatcher::TConfigParams matcher;
 	MapBuilderOptions mapping;
 	LogReaderOptions log;
 	OdometrySource odometrySource = OdometrySource::Auto;
