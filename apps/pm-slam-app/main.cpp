@@ -278,6 +278,11 @@ int main(int argc, char** argv)
 	}
 
 	pmslam::Trajectory traj;
+	// The smoothed poses (odometrySmoothing) replace each scan's pose once final.
+	auto applySmoothedPoses = [&](bool finish) {
+		for (const auto& [i, p] : slam.takeSmoothedPoses(finish))
+			if (i < traj.size()) traj[i].x = p.x, traj[i].y = p.y, traj[i].yaw = p.phi;
+	};
 	std::vector<ScanTiming> timing;
 	const auto wallStart = std::chrono::steady_clock::now();
 	auto lastGui = wallStart;
@@ -297,8 +302,7 @@ int main(int argc, char** argv)
 			if (ev.scanHasOdometry && cfg.odometrySource != pmslam::OdometrySource::Events) odo = ev.scanOdometry;
 			const auto& r = slam.processScan(*ev.scan, odo);
 			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
-			for (const auto& [i, p] : slam.takeSmoothedPoses())
-				if (i < traj.size()) traj[i].x = p.x, traj[i].y = p.y, traj[i].yaw = p.phi;
+			applySmoothedPoses(false);
 			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.matched, r.inserted, r.info.nIterations,
 							  r.info.goodness});
 			progress.update(traj.size());
@@ -325,9 +329,7 @@ int main(int argc, char** argv)
 		failure = e.what();
 	}
 	progress.clear();
-	// The last scans' smoothed poses wait for a look-ahead that will not come.
-	for (const auto& [i, p] : slam.takeSmoothedPoses(true))
-		if (i < traj.size()) traj[i].x = p.x, traj[i].y = p.y, traj[i].yaw = p.phi;
+	applySmoothedPoses(true);  // the last scans' poses wait for a look-ahead that will not come
 	const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
 	if (traj.empty() && !g_stop && !failed)

@@ -219,19 +219,23 @@ bool RawlogReader::next(LogEvent& ev)
 	{
 		if (d.done) return false;
 
-		const std::uint64_t pos0 = d.in.getPosition();
-		mrpt::serialization::CSerializable::Ptr obj;
-		std::string failure;
+		// Stops reading for good, with the damage warning unless the file just ended (reason empty).
+		auto stop = [&](const std::string& reason) {
+			d.flushHeld(d.lastTs);
+			d.done = true;
+			if (!reason.empty())
+				warn(m_path + ": damaged after object " + std::to_string(d.objects) + " (" + reason + "), stopping");
+		};
 		if (!d.probe->safeToRead(d.objects + 1))
 		{
 			// MRPT would crash, hang, throw or exhaust memory on the next object: stop before it.
-			d.flushHeld(d.lastTs);
-			d.done = true;
 			const std::string& why = d.probe->failure();
-			warn(m_path + ": damaged after object " + std::to_string(d.objects) + " (" +
-				 (d.probe->failedWithException() ? exceptionSummary(why) : why) + "), stopping");
+			stop(d.probe->failedWithException() ? exceptionSummary(why) : why);
 			continue;
 		}
+		const std::uint64_t pos0 = d.in.getPosition();
+		mrpt::serialization::CSerializable::Ptr obj;
+		std::string failure;
 		try
 		{
 			obj = d.arch->ReadObject();
@@ -246,8 +250,6 @@ bool RawlogReader::next(LogEvent& ev)
 		}
 		if (!failure.empty())
 		{
-			d.flushHeld(d.lastTs);
-			d.done = true;
 			std::uint64_t pos1 = pos0;
 			try
 			{
@@ -256,9 +258,7 @@ bool RawlogReader::next(LogEvent& ev)
 			catch (const std::exception&)
 			{
 			}
-			// Clean end of file: not a single byte of a next object.
-			if (pos1 != pos0)
-				warn(m_path + ": damaged after object " + std::to_string(d.objects) + " (" + failure + "), stopping");
+			stop(pos1 != pos0 ? failure : std::string());  // no byte of a next object: a clean end
 			continue;
 		}
 
