@@ -58,13 +58,17 @@ options (before or after LOG):
   --initial-pose X,Y,YAW_DEG  start pose on the --localize map (m, m, degrees; default 0,0,0)
   --gui                   live view of map, scan and trajectory (needs a display)
   --progress / --no-progress  force the progress line on or off (default: on when stderr is a terminal)
+  --max-untracked S       exit with status 3 when no match was accepted for more than S seconds of log
+                          (default 10; those poses are odometry only); spans over 3 s are warned about
   --quiet                 no summary, only warnings and errors
   -h, --help              this text
 
 outputs in DIR: trajectory.txt (timestamp x y yaw, one line per scan), map.png,
 map.pgm + map.yaml (ROS map_server), map.gridmap.gz and map.simplemap.gz (MRPT),
-timing.txt (per-scan milliseconds). Exit status: 0 done, 2 bad input or
-configuration, 1 failure while running, 130 interrupted (outputs still written).
+timing.txt (per-scan milliseconds and tracking state). Exit status: 0 done, 2 bad input or
+configuration, 1 failure while running, 3 done but tracking was lost (no match accepted) for more
+than --max-untracked seconds of log somewhere (outputs written, each such span warned about),
+130 interrupted (outputs still written).
 )";
 
 std::atomic<bool> g_stop{false};
@@ -86,6 +90,7 @@ struct Args
 	std::string localize;  // fixed map to localise on (empty: SLAM)
 	mrpt::math::TPose2D initialPose{0, 0, 0};
 	bool gui = false, quiet = false;
+	double maxUntracked = 10.0;	 // s
 	int progress = -1;	// -1 auto
 };
 
@@ -135,6 +140,15 @@ Args parseArgs(int argc, char** argv)
 			a.initialPose = {x, y, mrpt::DEG2RAD(yawDeg)};
 			initialPoseGiven = true;
 		}
+		else if (s == "--max-untracked")
+		{
+			const std::string v = value("--max-untracked");
+			char* end = nullptr;
+			const double x = std::strtod(v.c_str(), &end);
+			if (end == v.c_str() || *end || !(x >= 0) || !std::isfinite(x))
+				usageError("--max-untracked '" + v + "': expected seconds >= 0");
+			a.maxUntracked = x;
+		}
 		else if (s == "--gui") a.gui = true;
 		else if (s == "--quiet") a.quiet = true;
 		else if (s == "--progress") a.progress = 1;
@@ -154,6 +168,8 @@ struct ScanTiming
 	bool matched, inserted;
 	unsigned iterations;
 	double goodness;
+	int tracking;  // 0 matched, 1 not matched (below the insertion thresholds), 2 matched after a wide search moved it, 3 rejected
+	bool wideSearch;
 };
 
 void writeOutputs(const std::string& dir, const pmslam::PerfectMatchSlam& slam, const pmslam::Trajectory& traj,
@@ -163,12 +179,16 @@ void writeOutputs(const std::string& dir, const pmslam::PerfectMatchSlam& slam, 
 	const auto at = [&](const char* name) { return (fs::path(dir) / name).string(); };
 	pmslam::saveTrajectory(at("trajectory.txt"), traj, header + "\nposes of the robot base in the map frame (m, m, rad)");
 	pmslam::writeFileAtomically(at("timing.txt"), [&](std::ostream& out) {
-		out << "# " << header << "\n# timestamp match_ms update_ms total_ms matched inserted iterations goodness\n";
+		out << "# " << header
+			<< "\n# timestamp match_ms update_ms total_ms matched inserted iterations goodness tracking wide_search"
+			   "\n# tracking: 0 matched, 1 odometry only (moved less than the insertion thresholds), 2 matched after"
+			   " the wide search moved it (re-localised), 3 match rejected (odometry only)\n";
 		char line[200];
 		for (const auto& t : timing)
 		{
-			std::snprintf(line, sizeof line, "%.6f %.4f %.4f %.4f %d %d %u %.4f\n", t.timestamp, t.matchMs, t.updateMs,
-						  t.matchMs + t.updateMs, int(t.matched), int(t.inserted), t.iterations, t.goodness);
+			std::snprintf(line, sizeof line, "%.6f %.4f %.4f %.4f %d %d %u %.4f %d %d\n", t.timestamp, t.matchMs,
+						  t.updateMs, t.matchMs + t.updateMs, int(t.matched), int(t.inserted), t.iterations, t.goodness,
+						  t.tracking, int(t.wideSearch));
 			out << line;
 		}
 	});
@@ -303,8 +323,9 @@ int main(int argc, char** argv)
 			const auto& r = slam.processScan(*ev.scan, odo);
 			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
 			applySmoothedPoses(false);
+			const int tracking = r.rejected ? 3 : r.relocalized ? 2 : r.matched ? 0 : 1;
 			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.matched, r.inserted, r.info.nIterations,
-							  r.info.goodness});
+							  r.info.goodness, tracking, r.wideSearch});
 			progress.update(traj.size());
 			if (window && std::chrono::steady_clock::now() - lastGui > std::chrono::milliseconds(500))
 			{
@@ -345,6 +366,23 @@ int main(int argc, char** argv)
 		std::cerr << "pm-slam-app: error after " << traj.size() << " scans: " << failure
 				  << ": writing what was computed\n";
 
+	// Tracking: every stretch without an accepted match longer than a few seconds of log is said
+	// loudly, with its time span; the longest decides the exit status (--max-untracked).
+	double longestUntracked = 0;
+	std::size_t untrackedSpans = 0;
+	for (const auto& g : slam.trackingGaps())
+	{
+		const double span = std::isfinite(g.to - g.from) ? g.to - g.from : 0.0;
+		longestUntracked = std::max(longestUntracked, span);
+		if (span <= 3.0) continue;
+		++untrackedSpans;
+		std::fprintf(stderr,
+					 "pm-slam-app: warning: tracking lost from t=%.3f to t=%.3f (%.1f s of log, %zu rejected matches%s): "
+					 "those poses follow odometry only and their scans are not in the map\n",
+					 g.from, g.to, span, g.scans, g.open ? ", until the end of the log" : "");
+	}
+	const bool trackingLost = longestUntracked > args.maxUntracked;
+
 	std::ostringstream header;
 	header << "pm-slam-app " << args.log << " (" << traj.size() << " scans)";
 	if (!args.localize.empty()) header << " localised on " << args.localize;
@@ -372,6 +410,10 @@ int main(int argc, char** argv)
 		std::printf("pm-slam-app: %s\n", args.log.c_str());
 		std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
 					traj.size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
+		std::printf("  tracking: %s; %zu matches rejected, %zu wide searches, %zu re-localisations, longest span without "
+					"an accepted match %.1f s (%zu over 3 s)\n",
+					trackingLost ? "LOST (exit status 3)" : "ok", slam.scansRejected(), slam.wideSearches(),
+					slam.relocalizations(), longestUntracked, untrackedSpans);
 		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
 					total.empty() ? 0.0 : sumMs / total.size(), pmslam::percentile(total, 0.5), pmslam::percentile(total, 0.99));
 		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx\n", sumMs / 1000.0, wallS,
@@ -398,5 +440,11 @@ int main(int argc, char** argv)
 	}
 	if (failed) return 1;
 	if (g_stop) return 130;
+	if (trackingLost)
+	{
+		std::fprintf(stderr, "pm-slam-app: tracking was lost for %.1f s of log (more than --max-untracked %.1f s): exit status 3\n",
+					 longestUntracked, args.maxUntracked);
+		return 3;
+	}
 	return 0;
 }

@@ -126,7 +126,7 @@ struct Evaluation
 	Eigen::Matrix3d JtWJ = Eigen::Matrix3d::Zero();
 	Eigen::Vector3d JtWr = Eigen::Vector3d::Zero();
 	std::size_t n = 0, inliers = 0;
-	double likelihoodSum = 0;
+	double likelihoodSum = 0, inlierLikelihoodSum = 0;
 };
 
 int sign(double v) { return (v > 0) - (v < 0); }
@@ -193,7 +193,11 @@ class CostFunction
 			{
 				const Eigen::Vector3d J(gx, gy, jth);
 				e.likelihoodSum += m_s2 / denom;
-				if (d < m_far) ++e.inliers;
+				if (d < m_far)
+				{
+					++e.inliers;
+					e.inlierLikelihoodSum += m_s2 / denom;
+				}
 				e.hessian += (2.0 / denom) * (J * J.transpose());
 			}
 			if (need & kNormal)
@@ -321,6 +325,23 @@ PerfectMatchMatcher::PosePrior PerfectMatchMatcher::PosePrior::diagonal(const mr
 	p.mean = mean;
 	p.information.diagonal() << 1.0 / (sigmaXY * sigmaXY), 1.0 / (sigmaXY * sigmaXY), 1.0 / (sigmaPhi * sigmaPhi);
 	return p;
+}
+
+PerfectMatchMatcher::MatchInfo PerfectMatchMatcher::evaluate(const DynamicDistanceMap& map,
+															   const std::vector<mrpt::math::TPoint2Df>& points,
+															   const mrpt::math::TPose2D& pose) const
+{
+	TConfigParams o = options;
+	o.decimation = 1;
+	const Evaluation e = CostFunction(map, points, o)(Eigen::Vector3d(pose.x, pose.y, pose.phi), CostFunction::kCurvature);
+	MatchInfo info;
+	info.nPoints = e.n;
+	info.finalCost = e.n ? e.cost / e.n : 0.0;
+	info.inlierFraction = e.n ? double(e.inliers) / e.n : 0.0;
+	info.goodness = e.n ? e.likelihoodSum / e.n : 0.0;
+	info.inlierGoodness = e.inliers ? e.inlierLikelihoodSum / e.inliers : 0.0;
+	info.hessian = e.hessian;
+	return info;
 }
 
 double PerfectMatchMatcher::cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
@@ -471,6 +492,7 @@ mrpt::math::TPose2D PerfectMatchMatcher::alignPoints(const DynamicDistanceMap& m
 		info->finalCost = fin.n ? fin.cost / fin.n : 0.0;
 		info->inlierFraction = fin.n ? double(fin.inliers) / fin.n : 0.0;
 		info->goodness = fin.n ? fin.likelihoodSum / fin.n : 0.0;
+		info->inlierGoodness = fin.inliers ? fin.inlierLikelihoodSum / fin.inliers : 0.0;
 		info->hessian = fin.hessian;
 	}
 	if (covariance)

@@ -8,6 +8,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
+#include <pmslam/CorrelativeSearch.h>
 #include <pmslam/PerfectMatchSlam.h>
 
 #include <Eigen/LU>
@@ -41,6 +42,18 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 		mrpt::DEG2RAD(c.read_double(s, "mapInsertAngDistance_deg", mrpt::RAD2DEG(mapInsertAngDistance)));
 	mapInsertBelowInliers = c.read_double(s, "mapInsertBelowInliers", mapInsertBelowInliers);
 	minPoints = static_cast<unsigned>(c.read_int(s, "minPoints", static_cast<int>(minPoints)));
+	minOverlapGoodness = c.read_double(s, "minOverlapGoodness", minOverlapGoodness);
+	ignoreUnexploredPoints = c.read_bool(s, "ignoreUnexploredPoints", ignoreUnexploredPoints);
+	wideSearchBelowGoodness = c.read_double(s, "wideSearchBelowGoodness", wideSearchBelowGoodness);
+	wideSearchLinear = c.read_double(s, "wideSearchLinear", wideSearchLinear);
+	wideSearchAngular = mrpt::DEG2RAD(c.read_double(s, "wideSearchAngular_deg", mrpt::RAD2DEG(wideSearchAngular)));
+	relocalizeAfterGap = c.read_double(s, "relocalizeAfterGap", relocalizeAfterGap);
+	relocalizeAfterJump = c.read_double(s, "relocalizeAfterJump", relocalizeAfterJump);
+	relocalizeSpeed = c.read_double(s, "relocalizeSpeed", relocalizeSpeed);
+	relocalizeTurnRate =
+		mrpt::DEG2RAD(c.read_double(s, "relocalizeTurnRate_deg", mrpt::RAD2DEG(relocalizeTurnRate)));
+	relocalizeMaxLinear = c.read_double(s, "relocalizeMaxLinear", relocalizeMaxLinear);
+	matchAtLeastEvery = c.read_double(s, "matchAtLeastEvery", matchAtLeastEvery);
 	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
 	odometryPriorSigmaPhi =
 		mrpt::DEG2RAD(c.read_double(s, "odometryPriorSigmaPhi_deg", mrpt::RAD2DEG(odometryPriorSigmaPhi)));
@@ -57,6 +70,16 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(insertionLinDistance >= 0 && insertionLinDistance <= 100, "insertionLinDistance: expected 0..100 m");
 	need(insertionAngDistance >= 0 && insertionAngDistance <= 2 * M_PI, "insertionAngDistance_deg: expected 0..360");
 	need(minGoodness >= 0 && minGoodness <= 1, "minGoodness: expected 0..1");
+	need(minOverlapGoodness >= 0 && minOverlapGoodness <= 1, "minOverlapGoodness: expected 0..1 (0 = off)");
+	need(wideSearchBelowGoodness >= 0 && wideSearchBelowGoodness <= 1, "wideSearchBelowGoodness: expected 0..1 (0 = off)");
+	need(wideSearchLinear >= 0 && wideSearchLinear <= 10, "wideSearchLinear: expected 0..10 m");
+	need(wideSearchAngular >= 0 && wideSearchAngular <= M_PI + 1e-9, "wideSearchAngular_deg: expected 0..180");
+	need(relocalizeAfterGap > 0, "relocalizeAfterGap: expected > 0 s");
+	need(relocalizeAfterJump > 0, "relocalizeAfterJump: expected > 0 m");
+	need(relocalizeSpeed >= 0 && relocalizeSpeed <= 10, "relocalizeSpeed: expected 0..10 m/s");
+	need(relocalizeTurnRate >= 0 && relocalizeTurnRate <= 2 * M_PI, "relocalizeTurnRate_deg: expected 0..360 deg/s");
+	need(relocalizeMaxLinear >= 0 && relocalizeMaxLinear <= 20, "relocalizeMaxLinear: expected 0..20 m");
+	need(matchAtLeastEvery >= 0, "matchAtLeastEvery: expected >= 0 s (0 = off)");
 	need(mapInsertLinDistance >= 0 && mapInsertAngDistance >= 0, "mapInsertLinDistance, mapInsertAngDistance_deg: expected >= 0");
 	need((mapInsertLinDistance > 0) == (mapInsertAngDistance > 0),
 		 "mapInsertLinDistance and mapInsertAngDistance_deg: set both (> 0) or neither (0)");
@@ -88,7 +111,15 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nmapInsertLinDistance = " << mapInsertLinDistance
 		<< "\nmapInsertAngDistance_deg = " << mrpt::RAD2DEG(mapInsertAngDistance)
 		<< "\nmapInsertBelowInliers = " << mapInsertBelowInliers
-		<< "\nminPoints = " << minPoints << "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
+		<< "\nminPoints = " << minPoints << "\nminOverlapGoodness = " << minOverlapGoodness
+		<< "\nignoreUnexploredPoints = " << ignoreUnexploredPoints
+		<< "\nwideSearchBelowGoodness = " << wideSearchBelowGoodness << "\nwideSearchLinear = " << wideSearchLinear
+		<< "\nwideSearchAngular_deg = " << mrpt::RAD2DEG(wideSearchAngular)
+		<< "\nrelocalizeAfterGap = " << relocalizeAfterGap << "\nrelocalizeAfterJump = " << relocalizeAfterJump
+		<< "\nrelocalizeSpeed = " << relocalizeSpeed
+		<< "\nrelocalizeTurnRate_deg = " << mrpt::RAD2DEG(relocalizeTurnRate)
+		<< "\nrelocalizeMaxLinear = " << relocalizeMaxLinear << "\nmatchAtLeastEvery = " << matchAtLeastEvery
+		<< "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
 		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi)
 		<< "\nodometryToScanTime = " << odometryToScanTime << "\nscanLatency = " << scanLatency
 		<< "\nodometrySmoothing = " << odometrySmoothing << "\nodometrySmoothingLag = " << odometrySmoothingLag
@@ -128,7 +159,11 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 		m_smoother.emplace(so);
 	}
 	m_mapEmpty = true;
-	m_scans = m_matched = m_inserted = 0;
+	m_scans = m_matched = m_inserted = m_rejected = 0;
+	m_wideSearches = m_relocalizations = 0;
+	m_gaps.clear();
+	m_lastScanTime = m_lastAcceptedTime = m_lastMatchTime = std::nan("");
+	m_lost = false;
 	m_last = ScanResult();
 	m_last.pose = m_last.predicted = m_pose;
 	// Re-insert a given map's keyframes at their stored poses.
@@ -200,9 +235,11 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		if (const auto o = odometryAtTime(mrpt::Clock::toDouble(scan.timestamp) - PM_options.scanLatency))
 			odomAtScanTime = o;
 	r.predicted = m_pose;
+	double odometryStep = 0;  // m between this scan's odometry and the previous scan's
 	if (odomNow && m_odometryAtLastScan)
 	{
 		const mrpt::poses::CPose2D delta = mrpt::poses::CPose2D(*odomNow) - mrpt::poses::CPose2D(*m_odometryAtLastScan);
+		odometryStep = std::hypot(delta.x(), delta.y());
 		// No robot moves 10 m between two scans: such a jump is an odometry glitch (a reset,
 		// a corrupt reading), and following it would throw the robot (and the grid) away.
 		if (std::hypot(delta.x(), delta.y()) < kMaxOdometryStep)
@@ -221,9 +258,30 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 
 	const double lin = std::hypot(r.predicted.x - m_lastInsertPose.x, r.predicted.y - m_lastInsertPose.y);
 	const double ang = std::abs(mrpt::math::wrapToPi(r.predicted.phi - m_lastInsertPose.phi));
-	// Without any odometry the prediction never moves, so every scan is matched.
-	const bool moved =
-		!odomNow || lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
+	const double now = scan.timestamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(scan.timestamp) : std::nan("");
+	// Without any odometry the prediction never moves, so every scan is matched. Odometry that
+	// says "standing still" is checked every matchAtLeastEvery seconds all the same: a robot
+	// carried or pushed with its wheels locked moves without odometry knowing.
+	const bool moved = !odomNow || lin >= PM_options.insertionLinDistance ||
+					   ang >= PM_options.insertionAngDistance ||
+					   (PM_options.matchAtLeastEvery > 0 && now - m_lastMatchTime >= PM_options.matchAtLeastEvery);
+
+	// Where the prediction cannot be trusted, the match searches a wider window: after a time gap
+	// or an odometry jump, and while lost (the last match was rejected). The window grows with the
+	// time since the last accepted match, as far as the robot may have gone.
+	const double sincePrevious = now - m_lastScanTime;	// NaN when unknown
+	const bool gap = sincePrevious > PM_options.relocalizeAfterGap;
+	const bool jump = odometryStep > PM_options.relocalizeAfterJump;
+	double linWindow = PM_options.wideSearchLinear, angWindow = PM_options.wideSearchAngular;
+	if (m_lost || gap || jump)
+	{
+		double since = std::isfinite(now - m_lastAcceptedTime) ? now - m_lastAcceptedTime : 0.0;
+		if (gap) since = std::max(since, sincePrevious);
+		linWindow = std::min(PM_options.relocalizeMaxLinear,
+							 linWindow + PM_options.relocalizeSpeed * since + (jump ? 0.5 * odometryStep : 0.0));
+		angWindow = std::min(M_PI, angWindow + PM_options.relocalizeTurnRate * since);
+	}
+	if (std::isfinite(now)) m_lastScanTime = now;
 
 	if (m_mapEmpty || moved || !mapUpdating())
 	{
@@ -235,14 +293,20 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			if (PM_options.odometryPriorSigmaXY > 0 && PM_options.odometryPriorSigmaPhi > 0)
 				prior = PerfectMatchMatcher::PosePrior::diagonal(r.predicted, PM_options.odometryPriorSigmaXY,
 																 PM_options.odometryPriorSigmaPhi);
-			const mrpt::math::TPose2D est = m_matcher.alignPoints(m_grid->distanceMap(), pts.hits, r.predicted,
-																   &r.info, nullptr, prior ? &*prior : nullptr);
+			const mrpt::math::TPose2D est =
+				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r);
 			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-			if (r.info.goodness >= PM_options.minGoodness)
+			if (std::isfinite(now)) m_lastMatchTime = now;
+			if (acceptable(r.info))
 			{
 				r.pose = est;
 				r.matched = true;
 				++m_matched;
+			}
+			else
+			{
+				r.rejected = true;
+				++m_rejected;
 			}
 		}
 		// A rejected match is not inserted either: its pose is only the odometry guess,
@@ -275,10 +339,103 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			if (PM_options.keepSimpleMap) m_keyframes.add(r.pose, scan);
 		}
 	}
+	// Tracking state: a rejected match opens (or extends) a gap, an accepted one closes it.
+	if (r.rejected)
+	{
+		if (m_gaps.empty() || !m_gaps.back().open) m_gaps.push_back({now, now, 0, true});
+		m_gaps.back().to = now;
+		++m_gaps.back().scans;
+		m_lost = true;
+	}
+	else if (r.matched)
+	{
+		if (!m_gaps.empty() && m_gaps.back().open)
+		{
+			m_gaps.back().to = now;
+			m_gaps.back().open = false;
+		}
+		m_lost = false;
+		m_lastAcceptedTime = now;
+	}
 	m_pose = r.pose;
 	if (m_smoother) m_smoother->add(m_scans - 1, r.pose, r.odometry);
 	m_last = r;
 	return m_last;
+}
+
+bool PerfectMatchSlam::acceptable(const PerfectMatchMatcher::MatchInfo& info) const
+{
+	if (info.goodness >= PM_options.minGoodness) return true;
+	// Mostly new ground: trust the part that overlaps the map, if there is enough of it.
+	return PM_options.minOverlapGoodness > 0 && info.inlierGoodness >= PM_options.minOverlapGoodness &&
+		   info.inlierFraction * info.nPoints >= PM_options.minPoints;
+}
+
+mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TPoint2Df>& hits,
+												 const mrpt::math::TPose2D& predicted,
+												 const PerfectMatchMatcher::PosePrior* prior, double linWindow,
+												 double angWindow, ScanResult& r)
+{
+	const DynamicDistanceMap& dm = m_grid->distanceMap();
+	// PM from `start`. Points in unexplored space far from any obstacle are left out of the
+	// optimisation (see informativePoints); goodness and inliers are of the whole scan.
+	auto align = [&](const mrpt::math::TPose2D& start, PerfectMatchMatcher::MatchInfo& info) {
+		if (!PM_options.ignoreUnexploredPoints) return m_matcher.alignPoints(dm, hits, start, &info, nullptr, prior);
+		std::vector<mrpt::math::TPoint2Df> used = m_grid->informativePoints(hits, start);
+		if (used.size() < PM_options.minPoints) used = hits;
+		PerfectMatchMatcher::MatchInfo own;
+		const mrpt::math::TPose2D p = m_matcher.alignPoints(dm, used, start, &own, nullptr, prior);
+		info = m_matcher.evaluate(dm, hits, p);
+		info.nIterations = own.nIterations;
+		info.hessian = own.hessian;	 // the curvature of what was optimised: no frontier pull in it
+		return p;
+	};
+	mrpt::math::TPose2D best = align(predicted, r.info);
+	// The cheap test: a match that explains the scan well needs no search, whatever came before
+	// (after a gap, a jump or a rejection the window is only wider).
+	const bool poor = PM_options.wideSearchBelowGoodness > 0 && r.info.goodness < PM_options.wideSearchBelowGoodness;
+	if (!poor || (linWindow <= 0 && angWindow <= 0)) return best;
+	r.wideSearch = true;
+	++m_wideSearches;
+
+	// Coarse lattice over the whole window (at most ~17 steps per axis), then a fine one around
+	// each coarse peak, then PM from each fine peak.
+	CorrelativeSearch::Options co;
+	co.linearStep = std::max(0.1, linWindow / 8);
+	co.fieldSigma = std::min(dm.maxDistance(), 1.5 * co.linearStep);
+	co.maxAngularStep = std::max(co.maxAngularStep, std::min(mrpt::DEG2RAD(2.0), angWindow / 45));
+	std::vector<CorrelativeSearch::Candidate> starts = CorrelativeSearch(co).search(dm, hits, predicted, linWindow, angWindow);
+	if (co.linearStep > 0.1 + 1e-9)
+	{
+		CorrelativeSearch::Options fo;
+		std::vector<CorrelativeSearch::Candidate> fine;
+		for (const auto& c : starts)
+		{
+			fo.candidates = 1;
+			const auto f = CorrelativeSearch(fo).search(dm, hits, c.pose, co.linearStep, 2 * co.maxAngularStep);
+			if (!f.empty()) fine.push_back(f.front());
+		}
+		starts = fine;
+	}
+	// A pose away from the prediction must be clearly better than the match there, and explain
+	// the scan as a normal match does: after a gap or in a look-alike place a mediocre candidate
+	// is more often a wrong pose than a right one.
+	const double margin = 0.15;
+	double bestGoodness = std::max(r.info.goodness + margin, PM_options.wideSearchBelowGoodness);
+	for (const auto& c : starts)
+	{
+		PerfectMatchMatcher::MatchInfo info;
+		const mrpt::math::TPose2D p = align(c.pose, info);
+		if (info.goodness > bestGoodness)
+		{
+			bestGoodness = info.goodness;
+			best = p;
+			r.info = info;
+			r.relocalized = true;
+		}
+	}
+	if (r.relocalized) ++m_relocalizations;
+	return best;
 }
 
 std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> PerfectMatchSlam::takeSmoothedPoses(bool finish)

@@ -82,6 +82,20 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	/** Global cell index of world coordinate v. */
 	int worldToGlobalCell(double v) const { return m_distance.worldToCell(v); }
 
+	/** True where no scan has said anything yet (outside the grid, or a cell at the prior). */
+	bool isUnexplored(double x, double y) const
+	{
+		const int ix = x2idx(x), iy = y2idx(y);
+		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) return true;
+		return getRawMap()[std::size_t(iy) * getSizeX() + ix] == 0;
+	}
+	/** The points (robot frame) that say something about a pose near `pose`: all but those that
+	 * land in unexplored space more than two cells from any obstacle. Beyond the end of a mapped
+	 * wall the distance map still pulls a point back towards the wall's end; along a corridor
+	 * that pull is the only "information" the scan has, and it slides the robot backwards. */
+	std::vector<mrpt::math::TPoint2Df> informativePoints(const std::vector<mrpt::math::TPoint2Df>& points,
+														 const mrpt::math::TPose2D& pose) const;
+
 	/** Bytes held by the grid, the distance layer and the scratch buffers. */
 	std::size_t memoryBytes() const;
 

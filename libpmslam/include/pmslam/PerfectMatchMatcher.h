@@ -88,6 +88,9 @@ class PerfectMatchMatcher
 		double finalCost = 0;  ///< mean over points of ln(1 + Δ²/σ²) at the result (0 = perfect)
 		double inlierFraction = 0;	///< points closer to an obstacle than the truncation distance
 		double goodness = 0;  ///< mean likelihood σ²/(σ²+Δ²), in [0,1]
+		/** Mean likelihood over the inliers only: how well the scan agrees where it overlaps the
+		 * map, whatever the share of new ground (a random pose scores ~0.2, a true one 0.7–0.95). */
+		double inlierGoodness = 0;
 		Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();	///< curvature of Σ ln(σ²+Δ²) at the result
 	};
 
@@ -113,6 +116,10 @@ class PerfectMatchMatcher
 	mrpt::math::TPose2D alignPoints(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
 									const mrpt::math::TPose2D& initial, MatchInfo* info = nullptr,
 									Eigen::Matrix3d* covariance = nullptr, const PosePrior* prior = nullptr) const;
+
+	/** What alignPoints() reports, for `points` at `pose` as it is (no optimisation). */
+	MatchInfo evaluate(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
+					   const mrpt::math::TPose2D& pose) const;
 
 	/** The PM cost Σ ln(1+Δ²/σ²) of `points` at `pose` (for tests and diagnostics). */
 	double cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,

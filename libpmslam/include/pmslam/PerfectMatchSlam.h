@@ -98,6 +98,36 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * Read the poses with takeSmoothedPoses(). */
 	bool odometrySmoothing = true;
 	unsigned odometrySmoothingLag = 3;
+	/** A match that is mostly new ground is still accepted when the part that overlaps the map
+	 * agrees: at least minPoints inliers whose mean likelihood (inlierGoodness) is at least this
+	 * (a random pose scores ~0.2; 0 = off, only minGoodness). Without it a turn into an unmapped
+	 * corridor is rejected, not inserted, and the map never grows there again. */
+	double minOverlapGoodness = 0.6;
+	/** Leave out of the match the points that land in unexplored space more than two cells from
+	 * any obstacle (OccupancyDistanceGridMap::informativePoints): beyond the end of a mapped wall
+	 * they pull the robot back towards the known part, which along a plain corridor is the only
+	 * pull there is, and the trajectory comes up short. */
+	bool ignoreUnexploredPoints = false;
+	/** Wide basin: when the match from the prediction scores below wideSearchBelowGoodness (0 = never),
+	 * a correlative search within ±wideSearchLinear (m) and ±wideSearchAngular (rad) of the prediction
+	 * proposes other starting poses, each refined by PM; the best wins. Clean matches score 0.8–0.98,
+	 * so the search runs only where the prediction was off (a fast spin, a wheel slip). */
+	double wideSearchBelowGoodness = 0.7;
+	double wideSearchLinear = 0.5;
+	double wideSearchAngular = mrpt::DEG2RAD(30.0);
+	/** Re-localisation: after a time gap longer than relocalizeAfterGap (s), an odometry step longer
+	 * than relocalizeAfterJump (m), or a rejected match, the next match searches a window that grows
+	 * with the time since the last accepted match (relocalizeSpeed m/s, relocalizeTurnRate rad/s) up
+	 * to ±relocalizeMaxLinear (m) and ±180°, against the map built so far. */
+	double relocalizeAfterGap = 2.0;
+	double relocalizeAfterJump = 1.0;
+	double relocalizeSpeed = 0.5;
+	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);
+	double relocalizeMaxLinear = 4.0;
+	/** Match a scan at least this often (s of log) even when odometry says the robot stands still
+	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
+	 * wheels moves without its odometry knowing. */
+	double matchAtLeastEvery = 1.0;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
@@ -124,6 +154,9 @@ class PerfectMatchSlam
 		mrpt::math::TPose2D predicted;	///< odometry prediction it started from
 		std::optional<mrpt::math::TPose2D> odometry;  ///< odometry at the scan's time, as the smoother got it (its own frame)
 		bool matched = false, inserted = false;
+		bool wideSearch = false;  ///< the wide search ran for this scan
+		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
+		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
 		std::size_t cellsFlipped = 0;
 		PerfectMatchMatcher::MatchInfo info;
@@ -187,6 +220,20 @@ class PerfectMatchSlam
 	std::size_t scansProcessed() const { return m_scans; }
 	std::size_t scansMatched() const { return m_matched; }
 	std::size_t scansInserted() const { return m_inserted; }
+	std::size_t scansRejected() const { return m_rejected; }
+	std::size_t wideSearches() const { return m_wideSearches; }
+	std::size_t relocalizations() const { return m_relocalizations; }
+
+	/** A stretch of the log where no match was accepted: from the first rejected scan to the next
+	 * accepted one (or the last scan), in scan timestamps (s). Every pose in it is odometry only. */
+	struct TrackingGap
+	{
+		double from = 0, to = 0;
+		std::size_t scans = 0;	///< rejected scans in it
+		bool open = true;  ///< still going at the last scan
+	};
+	/** Every such stretch so far, oldest first. */
+	const std::vector<TrackingGap>& trackingGaps() const { return m_gaps; }
 
 	/** Whether scans are inserted into the map (off after initializeWithFixedMap()). */
 	virtual bool mapUpdating() const { return m_mapUpdating; }
@@ -217,7 +264,16 @@ class PerfectMatchSlam
 	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
 	std::optional<OdometrySmoother> m_smoother;
 	bool m_mapEmpty = true;
-	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0;
+	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0;
+	std::size_t m_wideSearches = 0, m_relocalizations = 0;
+	std::vector<TrackingGap> m_gaps;
+	double m_lastScanTime = std::nan(""), m_lastAcceptedTime = std::nan(""), m_lastMatchTime = std::nan("");
+	bool m_lost = false;  // the last match was rejected
+	/** PM from the prediction, and the wide search where that is not good enough. */
+	mrpt::math::TPose2D matchScan(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& predicted,
+								  const PerfectMatchMatcher::PosePrior* prior, double linWindow, double angWindow,
+								  ScanResult& r);
+	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
 	ScanResult m_last;
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
 };

@@ -1,0 +1,255 @@
+/* pm-fault-inject — injects the faults a real robot log has into a Carmen log, with known truth.
+ *
+ *   pm-fault-inject --fault KIND [options] IN.clf OUT.clf
+ *
+ * The faults (each at --count places drawn with --seed from the middle 90 % of the scans, at
+ * least 1/(2·count) of the log apart):
+ *   slip      the odometry turns by a heading drawn from --heading-deg LO:HI (random sign) and
+ *             moves --lateral M sideways between two consecutive scans, kept from then on (a wheel slip)
+ *   dropout   --scans N consecutive laser scans are missing (odometry goes on)
+ *   gap       nothing is logged for --seconds S (the robot moves on meanwhile)
+ *   spurious  in --fraction F of the scans, a person-sized blob: --beams N neighbouring beams
+ *             return 0.5–3 m
+ *   kidnap    the robot is carried --metres M: its odometry stands still while the scans move
+ * FLASER/RLASER (laser and odometry poses) and ODOM lines are rewritten; other lines pass unchanged.
+ * The places chosen are written to stderr, one line each ("fault KIND at t=… (scan #…)").
+ * Exit status: 0 done, 2 bad arguments or unreadable input.
+ */
+#include <mrpt/poses/CPose2D.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+[[noreturn]] void fail(const std::string& m)
+{
+	std::cerr << "pm-fault-inject: " << m << "\n";
+	std::exit(2);
+}
+
+double number(const std::string& opt, const std::string& v)
+{
+	char* end = nullptr;
+	const double x = std::strtod(v.c_str(), &end);
+	if (end == v.c_str() || *end || !std::isfinite(x)) fail(opt + " '" + v + "': expected a number");
+	return x;
+}
+
+struct Line
+{
+	std::string text;
+	std::vector<std::string> tok;
+	bool scan = false, odom = false;
+	std::size_t n = 0;	// beams of a scan
+	double t = 0;
+	bool keep = true;
+};
+
+std::string fmt(double v)
+{
+	char b[64];
+	std::snprintf(b, sizeof b, "%.6f", v);
+	return b;
+}
+
+mrpt::poses::CPose2D poseAt(const Line& l, std::size_t i)
+{
+	return {std::stod(l.tok[i]), std::stod(l.tok[i + 1]), std::stod(l.tok[i + 2])};
+}
+void setPose(Line& l, std::size_t i, const mrpt::poses::CPose2D& p)
+{
+	l.tok[i] = fmt(p.x());
+	l.tok[i + 1] = fmt(p.y());
+	l.tok[i + 2] = fmt(p.phi());
+}
+mrpt::poses::CPose2D inverse(const mrpt::poses::CPose2D& p) { return mrpt::poses::CPose2D() - p; }
+// Index of the odometry pose in a line (the raw odometry of a scan line).
+std::size_t odomIndex(const Line& l) { return l.scan ? 5 + l.n : 1; }
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	std::string kind, in, out;
+	int count = 1;
+	unsigned seed = 1;
+	double headLo = 18, headHi = 30, lateral = 0.3, seconds = 20, fraction = 0.3, metres = 3;
+	int scansOut = 50, beams = 8;
+	std::vector<std::string> pos;
+	for (int i = 1; i < argc; ++i)
+	{
+		const std::string a = argv[i];
+		auto val = [&]() -> std::string {
+			if (i + 1 >= argc) fail(a + " needs a value");
+			return argv[++i];
+		};
+		if (a == "--fault") kind = val();
+		else if (a == "--count") count = int(number(a, val()));
+		else if (a == "--seed") seed = unsigned(number(a, val()));
+		else if (a == "--heading-deg")
+		{
+			const std::string v = val();
+			const auto c = v.find(':');
+			headLo = number(a, v.substr(0, c));
+			headHi = c == std::string::npos ? headLo : number(a, v.substr(c + 1));
+		}
+		else if (a == "--lateral") lateral = number(a, val());
+		else if (a == "--scans") scansOut = int(number(a, val()));
+		else if (a == "--seconds") seconds = number(a, val());
+		else if (a == "--fraction") fraction = number(a, val());
+		else if (a == "--beams") beams = int(number(a, val()));
+		else if (a == "--metres") metres = number(a, val());
+		else if (a == "-h" || a == "--help")
+		{
+			std::cout << "usage: pm-fault-inject --fault slip|dropout|gap|spurious|kidnap [--count N] [--seed S]\n"
+						 "  [--heading-deg LO:HI] [--lateral M] [--scans N] [--seconds S] [--fraction F] [--beams N]\n"
+						 "  [--metres M] IN.clf OUT.clf   (see the comment at the top of apps/pm-fault-inject/main.cpp)\n";
+			return 0;
+		}
+		else if (!a.empty() && a[0] == '-') fail("unknown option '" + a + "'");
+		else pos.push_back(a);
+	}
+	if (pos.size() != 2) fail("expected IN.clf OUT.clf (see --help)");
+	in = pos[0];
+	out = pos[1];
+	const std::set<std::string> kinds{"slip", "dropout", "gap", "spurious", "kidnap"};
+	if (!kinds.count(kind)) fail("--fault '" + kind + "': expected slip, dropout, gap, spurious or kidnap");
+	if (count < 1) fail("--count: expected >= 1");
+
+	std::ifstream f(in);
+	if (!f) fail("cannot read '" + in + "'");
+	std::vector<Line> lines;
+	std::vector<std::size_t> scans;	 // indices of scan lines
+	for (std::string s; std::getline(f, s);)
+	{
+		Line l;
+		l.text = s;
+		std::istringstream ss(s);
+		for (std::string w; ss >> w;) l.tok.push_back(w);
+		try
+		{
+			if (!l.tok.empty() && (l.tok[0] == "FLASER" || l.tok[0] == "RLASER") && l.tok.size() > 2)
+			{
+				l.n = std::stoul(l.tok[1]);
+				if (l.tok.size() >= 11 + l.n)
+				{
+					l.scan = true;
+					l.t = std::stod(l.tok[8 + l.n]);
+					scans.push_back(lines.size());
+				}
+			}
+			else if (!l.tok.empty() && l.tok[0] == "ODOM" && l.tok.size() >= 10)
+			{
+				l.odom = true;
+				l.t = std::stod(l.tok[7]);
+			}
+		}
+		catch (const std::exception&)
+		{
+			l.scan = l.odom = false;
+		}
+		lines.push_back(std::move(l));
+	}
+	if (scans.size() < 100) fail("'" + in + "' has " + std::to_string(scans.size()) + " laser scans: expected at least 100");
+
+	// Places: one per equal slice of the middle 90 % of the scans, drawn inside its slice.
+	std::mt19937 rng(seed);
+	auto uniform = [&]() { return (rng() >> 8) * (1.0 / 16777216.0); };	// same on every platform
+	std::vector<std::size_t> at;  // scan numbers
+	const double lo = 0.05 * scans.size(), width = 0.9 * scans.size() / count;
+	if (kind != "spurious")
+		for (int k = 0; k < count; ++k) at.push_back(std::size_t(lo + width * (k + 0.25 + 0.5 * uniform())));
+
+	mrpt::poses::CPose2D C;	 // correction applied to every odometry pose from here on
+	std::size_t next = 0;
+	std::size_t scanNo = 0;
+	bool frozen = false;
+	mrpt::poses::CPose2D frozenAt;	// raw odometry where the kidnap began
+	double carried = 0;
+	mrpt::poses::CPose2D lastRaw;
+	bool haveLast = false;
+	double gapUntil = -1;
+	int dropLeft = 0;
+	for (auto& l : lines)
+	{
+		if (!(l.scan || l.odom)) continue;
+		if (l.t < gapUntil)
+		{
+			l.keep = false;
+			continue;
+		}
+		const mrpt::poses::CPose2D raw = poseAt(l, odomIndex(l));
+		if (l.scan)
+		{
+			if (next < at.size() && scanNo == at[next])
+			{
+				++next;
+				std::cerr << "fault " << kind << " at t=" << fmt(l.t) << " (scan #" << scanNo << ")\n";
+				if (kind == "slip")
+				{
+					const double h = (headLo + (headHi - headLo) * uniform()) * (uniform() < 0.5 ? -1 : 1);
+					const double side = lateral * (uniform() < 0.5 ? -1 : 1);
+					C = C + raw + mrpt::poses::CPose2D(0, side, h * M_PI / 180) + inverse(raw);
+				}
+				else if (kind == "dropout") dropLeft = scansOut;
+				else if (kind == "gap")
+				{
+					gapUntil = l.t + seconds;
+					l.keep = false;
+					++scanNo;
+					continue;
+				}
+				else if (kind == "kidnap")
+				{
+					frozen = true;
+					frozenAt = raw;
+					carried = 0;
+				}
+			}
+			if (dropLeft > 0)
+			{
+				--dropLeft;
+				l.keep = false;
+			}
+			if (kind == "spurious" && uniform() < fraction && int(l.n) > beams)
+			{
+				const std::size_t b0 = std::size_t(uniform() * (l.n - beams));
+				const double r0 = 0.5 + 2.5 * uniform();
+				for (int b = 0; b < beams; ++b) l.tok[2 + b0 + b] = fmt(r0 + 0.05 * (uniform() - 0.5));
+			}
+			++scanNo;
+		}
+		if (frozen && haveLast) carried += (raw - lastRaw).norm();
+		lastRaw = raw;
+		haveLast = true;
+		if (frozen && carried >= metres)
+		{
+			frozen = false;
+			C = C + frozenAt + inverse(raw);	// odometry resumes from where it stood
+		}
+		const mrpt::poses::CPose2D odo = frozen ? frozenAt : raw;
+		if (l.scan)
+		{
+			const mrpt::poses::CPose2D laser = poseAt(l, 2 + l.n);
+			setPose(l, 2 + l.n, C + odo + (laser - raw));
+		}
+		setPose(l, odomIndex(l), C + odo);
+		std::string s;
+		for (const auto& w : l.tok) s += (s.empty() ? "" : " ") + w;
+		l.text = s;
+	}
+	std::ofstream o(out + ".tmp");
+	for (const auto& l : lines)
+		if (l.keep) o << l.text << "\n";
+	o.close();
+	if (!o || std::rename((out + ".tmp").c_str(), out.c_str()) != 0) fail("cannot write '" + out + "'");
+	return 0;
+}
