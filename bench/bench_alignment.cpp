@@ -33,9 +33,9 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/slam/CICP.h>
-#include <pmslam/OccupancyDistanceGridMap.h>
-#include <pmslam/PerfectMatchAligner.h>
-#include <pmslam/ScanPoints.h>
+#include <pmslam/map/OccupancyDistanceGridMap.h>
+#include <pmslam/match/PerfectMatchAligner.h>
+#include <pmslam/sensor/ScanPoints.h>
 
 #include <cmath>
 #include <functional>

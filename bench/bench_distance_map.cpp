@@ -11,7 +11,7 @@
 // "cells_changed" (obstacle cells flipped per update), "cells_processed" (queue pops
 // per update, as returned by update()).
 #include <benchmark/benchmark.h>
-#include <pmslam/DynamicDistanceMap.h>
+#include <pmslam/map/DynamicDistanceMap.h>
 
 #include <algorithm>
 #include <cmath>

@@ -6,8 +6,8 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include <pmslam/LogReader.h>
-#include <pmslam/ScanPoints.h>
+#include <pmslam/io/LogReader.h>
+#include <pmslam/sensor/ScanPoints.h>
 
 #include <cmath>
 #include <cstdint>

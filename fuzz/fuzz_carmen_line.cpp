@@ -1,7 +1,7 @@
 // libFuzzer target: the Carmen log reader on arbitrary text (one or more lines).
 // Every line is validated before MRPT's importer sees it; damaged lines must be
 // skipped with a warning, never crash, and what is delivered must be usable.
-#include <pmslam/CarmenLogReader.h>
+#include <pmslam/io/CarmenLogReader.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // overrides. The input is the INI text, then optionally a NUL byte followed by
 // newline-separated overrides. Anything may be rejected, with a ConfigError
 // only; whatever is accepted must pass the checks of the configuration.
-#include <pmslam/SlamConfig.h>
+#include <pmslam/slam/SlamConfig.h>
 
 #include <cmath>
 #include <cstddef>

@@ -1,8 +1,8 @@
 // libFuzzer target: the MRPT rawlog reader (and format detection) on arbitrary
 // bytes. Damage must stop reading with one warning, never crash, and what is
 // delivered before it must be usable by the SLAM loop.
-#include <pmslam/LogReader.h>
-#include <pmslam/RawlogReader.h>
+#include <pmslam/io/LogReader.h>
+#include <pmslam/io/RawlogReader.h>
 
 #include <malloc.h>
 

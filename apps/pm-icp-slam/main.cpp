@@ -21,10 +21,10 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/slam/CMetricMapBuilderICP.h>
 #include <mrpt/system/COutputLogger.h>
-#include <pmslam/AtomicFile.h>
-#include <pmslam/LogReader.h>
-#include <pmslam/RunStatistics.h>
-#include <pmslam/Trajectory.h>
+#include <pmslam/io/AtomicFile.h>
+#include <pmslam/io/LogReader.h>
+#include <pmslam/util/RunStatistics.h>
+#include <pmslam/io/Trajectory.h>
 #include <sys/resource.h>
 #include <unistd.h>
 

@@ -13,12 +13,12 @@
  * they have in common estimates the reference's own error.
  */
 #include <mrpt/poses/CPose2D.h>
-#include <pmslam/CarmenLogReader.h>
-#include <pmslam/OccupancyDistanceGridMap.h>
-#include <pmslam/PerfectMatchMatcher.h>
-#include <pmslam/RelativePoseEvaluation.h>
-#include <pmslam/ScanPoints.h>
-#include <pmslam/Trajectory.h>
+#include <pmslam/io/CarmenLogReader.h>
+#include <pmslam/map/OccupancyDistanceGridMap.h>
+#include <pmslam/match/PerfectMatchMatcher.h>
+#include <pmslam/eval/RelativePoseEvaluation.h>
+#include <pmslam/sensor/ScanPoints.h>
+#include <pmslam/io/Trajectory.h>
 
 #include <algorithm>
 #include <cmath>

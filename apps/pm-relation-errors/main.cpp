@@ -7,8 +7,8 @@
  * RELATIONS: `t1 t2 trans_err_m rot_err_deg`, computed by
  * pmslam::evaluateRelativePoses (same metric and tolerance as pm-slam-eval).
  */
-#include <pmslam/RelativePoseEvaluation.h>
-#include <pmslam/Trajectory.h>
+#include <pmslam/eval/RelativePoseEvaluation.h>
+#include <pmslam/io/Trajectory.h>
 
 #include <algorithm>
 #include <cmath>

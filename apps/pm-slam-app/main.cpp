@@ -5,14 +5,14 @@
  * Reads an MRPT .rawlog or a Carmen log, builds the map and the trajectory
  * scan by scan, and writes them to --out (see --help and README.md).
  */
-#include <pmslam/AtomicFile.h>
-#include <pmslam/PerfectMatchSlam.h>
-#include <pmslam/LogReader.h>
-#include <pmslam/RunStatistics.h>
-#include <pmslam/MapExport.h>
-#include <pmslam/ScanPoints.h>
-#include <pmslam/SlamConfig.h>
-#include <pmslam/Trajectory.h>
+#include <pmslam/io/AtomicFile.h>
+#include <pmslam/slam/PerfectMatchSlam.h>
+#include <pmslam/io/LogReader.h>
+#include <pmslam/util/RunStatistics.h>
+#include <pmslam/io/MapExport.h>
+#include <pmslam/sensor/ScanPoints.h>
+#include <pmslam/slam/SlamConfig.h>
+#include <pmslam/io/Trajectory.h>
 #include <sys/resource.h>
 #include <unistd.h>
 

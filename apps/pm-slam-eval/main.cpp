@@ -1,8 +1,8 @@
 /* pm-slam-eval — score a SLAM trajectory against Freiburg ground-truth relations
  * with the relative-displacement metric of Kümmerle et al. 2009
- * (see libpmslam/include/pmslam/RelativePoseEvaluation.h). */
-#include <pmslam/RelativePoseEvaluation.h>
-#include <pmslam/Trajectory.h>
+ * (see libpmslam/include/pmslam/eval/RelativePoseEvaluation.h). */
+#include <pmslam/eval/RelativePoseEvaluation.h>
+#include <pmslam/io/Trajectory.h>
 
 #include <cstdio>
 #include <exception>

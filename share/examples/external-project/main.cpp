@@ -2,8 +2,8 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/serialization/CArchive.h>
-#include <pmslam/CMetricMapBuilderPM.h>
-#include <pmslam/MapExport.h>
+#include <pmslam/slam/CMetricMapBuilderPM.h>
+#include <pmslam/io/MapExport.h>
 
 #include <cstdio>
 #include <string>

@@ -17,8 +17,8 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/slam/CICP.h>
 #include <mrpt/slam/CMetricMapsAlignmentAlgorithm.h>
-#include <pmslam/MapExport.h>
-#include <pmslam/PerfectMatchAligner.h>
+#include <pmslam/io/MapExport.h>
+#include <pmslam/match/PerfectMatchAligner.h>
 
 #include <cmath>
 #include <cstdio>

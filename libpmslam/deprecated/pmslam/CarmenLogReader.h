@@ -1,0 +1,6 @@
+/* pmslam — forwarding header for the old include path <pmslam/CarmenLogReader.h>.
+ * Deprecated since 0.2: include <pmslam/io/CarmenLogReader.h>;
+ * this forwarding header will be removed in the next release. */
+#pragma once
+
+#include <pmslam/io/CarmenLogReader.h>

@@ -1,0 +1,6 @@
+/* pmslam — forwarding header for the old include path <pmslam/SlamConfig.h>.
+ * Deprecated since 0.2: include <pmslam/slam/SlamConfig.h>;
+ * this forwarding header will be removed in the next release. */
+#pragma once
+
+#include <pmslam/slam/SlamConfig.h>

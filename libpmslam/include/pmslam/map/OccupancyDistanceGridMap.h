@@ -1,0 +1,124 @@
+/* pmslam — an MRPT occupancy grid that keeps its distance map live.
+ *
+ * A mrpt::maps::COccupancyGridMap2D (so every MRPT tool can display, save and
+ * load it) whose scan insertion also tracks which cells flip between "occupied"
+ * and "not occupied" and forwards only those flips to a DynamicDistanceMap.
+ * The Perfect Match aligner recognises this class and matches against the live
+ * distance layer instead of rebuilding one.
+ *
+ * Occupancy model: log-odds per cell (MRPT stores the log-odds of being *free*,
+ * 1/16 natural-log units); a hit adds occupancy evidence, a beam passing through
+ * adds free evidence, each cell at most once per scan (hits win), and the
+ * evidence is clamped so the map can still change when the world does. A cell
+ * is an obstacle while its occupancy probability is above 0.5.
+ *
+ * Serialising or cloning this object through MRPT's RTTI yields a plain
+ * COccupancyGridMap2D (the distance layer is derived data and is not saved).
+ *
+ * Frames and units: the map frame, metres; scans are inserted from a robot
+ * pose (m, m, rad) in that frame with their points in the robot frame. The
+ * grid grows as scans need it, and its origin always stays on a multiple of
+ * the resolution, so grid cell (ix, iy) is distance-map cell
+ * (ix + xMin/res, iy + yMin/res) of DynamicDistanceMap's global lattice.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/math/TPoint2D.h>
+#include <mrpt/math/TPose2D.h>
+#include <pmslam/map/DynamicDistanceMap.h>
+#include <pmslam/sensor/ScanPoints.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace pmslam
+{
+/** How scans update the grid; INI section [MappingApplication] keys of the same names. */
+struct OccupancyGridUpdateOptions : public mrpt::config::CLoadableOptions
+{
+	double resolution = 0.05;  ///< cell side (m)
+	double maxDistance = 0.5;  ///< distance-map truncation (m)
+	double hitProbability = 0.7;  ///< inverse sensor model for a return
+	double missProbability = 0.45;  ///< inverse sensor model for a beam passing through
+	double clampProbability = 0.95;	 ///< evidence bound, both ways
+	/** Consecutive returns closer than this (m) are joined: the cells between them get
+	 * hit evidence too. A laser samples a wall at spots that spread with range; joining
+	 * them keeps far walls solid instead of dotted, so a later scan is not pulled toward
+	 * the dots (which biases the estimated motion toward zero). 0 disables. */
+	double joinHitsCloserThan = 0.0;
+	/** Free space is carved only along the last this-many metres of each beam (0 = the whole
+	 * beam). Cells near the robot are crossed by many beams, so little is lost; far beams cost
+	 * a cell visit per 5 cm each. */
+	double freeCarveLength = 0.0;
+	/** Free space stops this far (m) before each return (0 = up to the return's cell). A beam
+	 * that ends on a wall seen at a grazing angle passes through the cells just in front of its
+	 * end that hold the same wall; carving them makes walls flicker between scans. */
+	double freeCarveMarginBeforeHit = 0.1;
+	ScanPointsOptions scan;	 ///< min/max ranges and free-space carving of no-return beams
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+	void dumpToTextStream(std::ostream& out) const override;
+};
+
+class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
+{
+   public:
+	using TUpdateOptions = OccupancyGridUpdateOptions;
+
+
+	explicit OccupancyDistanceGridMap(const TUpdateOptions& opts = TUpdateOptions());
+
+	const TUpdateOptions& updateOptions() const { return m_opts; }
+	const DynamicDistanceMap& distanceMap() const { return m_distance; }
+
+	/** Inserts one scan (points in the robot frame) seen from robot pose `pose`
+	 * (map frame). Returns how many cells flipped occupied/free. */
+	std::size_t insertScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose);
+
+	/** True when cell (global index) is an obstacle in the binarised grid. */
+	bool isOccupiedCell(int gx, int gy) const { return m_distance.isObstacle(gx, gy); }
+	/** Global cell index of world coordinate v. */
+	int worldToGlobalCell(double v) const { return m_distance.worldToCell(v); }
+
+	/** True where no scan has said anything yet (outside the grid, or a cell at the prior). */
+	bool isUnexplored(double x, double y) const
+	{
+		const int ix = x2idx(x), iy = y2idx(y);
+		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) return true;
+		return getRawMap()[std::size_t(iy) * getSizeX() + ix] == 0;
+	}
+	/** The points (robot frame) that say something about a pose near `pose`: all but those that
+	 * land in unexplored space more than two cells from any obstacle. Beyond the end of a mapped
+	 * wall the distance map still pulls a point back towards the wall's end; along a corridor
+	 * that pull is the only "information" the scan has, and it slides the robot backwards. */
+	std::vector<mrpt::math::TPoint2Df> informativePoints(const std::vector<mrpt::math::TPoint2Df>& points,
+														 const mrpt::math::TPose2D& pose) const;
+
+	/** Bytes held by the grid, the distance layer and the scratch buffers. */
+	std::size_t memoryBytes() const;
+
+	/** Rebuilds the distance layer from the grid contents (after loading a grid). */
+	void rebuildDistanceMap();
+
+   protected:
+	bool internal_insertObservation(const mrpt::obs::CObservation& obs,
+									const std::optional<const mrpt::poses::CPose3D>& robotPose) override;
+	void internal_clear() override;
+
+   private:
+	void ensureContains(double xmin, double ymin, double xmax, double ymax);
+	// Applies one update to cell (ix, iy) of the grid; forwards a flip to the distance map.
+	void applyUpdate(int ix, int iy, int delta);
+
+	TUpdateOptions m_opts;
+	DynamicDistanceMap m_distance;
+	int m_hitDelta, m_missDelta, m_clamp;  // in MRPT log-odds units (free-positive)
+	int m_offX = 0, m_offY = 0;	 // global cell index of grid cell (0,0)
+	std::vector<uint16_t> m_stamp;  // last scan that touched each grid cell (wraps; cleared then)
+	uint16_t m_scanId = 0;
+	std::size_t m_flips = 0;
+};
+
+}  // namespace pmslam

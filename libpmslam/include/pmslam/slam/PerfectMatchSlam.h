@@ -1,0 +1,281 @@
+/* pmslam — online Perfect Match SLAM.
+ *
+ * Feed it odometry and laser scans (or MRPT action/observation pairs and plain
+ * observations) and it keeps the current pose, the map (an
+ * OccupancyDistanceGridMap inside a CMultiMetricMap) and the keyframes that
+ * built it (a CSimpleMap). CMetricMapBuilderPM puts the same object behind
+ * MRPT's mrpt::slam::CMetricMapBuilder interface; this class needs no mrpt-slam,
+ * so a program that only maps (pm-slam-app) does not load it and the ~120
+ * shared libraries behind it (about 30 MB of resident memory).
+ *
+ * The loop (Pedrosa, Lau, Reis): the first scan is inserted at (0,0,0) without
+ * matching. Each later scan's pose is predicted from odometry; once the robot
+ * has moved more than the insertion thresholds since the last insertion, the
+ * scan is matched against the map with the Perfect Match aligner starting from
+ * the prediction, and inserted at the corrected pose. Scans below the threshold
+ * keep the odometry-propagated pose. Every scan gets a pose.
+ *
+ * Localisation: initializeWithFixedMap() loads a prior COccupancyGridMap2D
+ * and turns map updating off; every scan is then matched against that fixed
+ * map and nothing is inserted.
+ *
+ * Frames: poses are of the robot base in the map frame (metres, radians);
+ * the first scan's pose is the origin of the map frame unless initialize()
+ * is given x0 (or the fixed map's frame is used). Scans carry their own
+ * sensorPose relative to the base (offset, yawed or upside-down lasers).
+ * Odometry is used only through its increments, so its frame does not matter.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/math/TPoint2D.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3DPDF.h>
+#include <mrpt/poses/CPosePDF.h>
+#include <pmslam/slam/KeyframeStore.h>
+#include <pmslam/slam/OdometrySmoother.h>
+#include <pmslam/map/OccupancyDistanceGridMap.h>
+#include <pmslam/match/PerfectMatchMatcher.h>
+
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace pmslam
+{
+/** Builder options; INI section [MappingApplication] (grid keys in the same section). */
+struct MapBuilderOptions : public mrpt::config::CLoadableOptions
+{
+	double insertionLinDistance = 0.01;	 ///< match + insert once the robot moved this far (m)...
+	/** ...or turned this much (rad) since the last insertion. The paper used 0.5 rad; turning
+	 * in place then leaves up to 28° to odometry alone, and a laser 20 m from a wall sees a 5°
+	 * odometry error as 1.7 m, beyond the distance map's reach. 2° keeps every match local. */
+	double insertionAngDistance = 2.0 * M_PI / 180.0;
+	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected: the scan
+	 * keeps the odometry prediction and is not inserted (0 accepts every match). A good match scores 0.8–0.98. */
+	double minGoodness = 0.3;
+	/** Map insertion decoupled from matching: a matched scan is inserted into the grid only
+	 * once the robot moved mapInsertLinDistance (m) or turned mapInsertAngDistance (rad) since
+	 * the last insertion, or when fewer than mapInsertBelowInliers of its points lie within the
+	 * distance map's reach (new ground). 0 and 0 = insert every matched scan. Redrawing the map
+	 * at every slightly drifted pose blurs it and lets the newest evidence overwrite the oldest,
+	 * so a revisited place no longer pulls the robot back (intel: 0.031 -> 0.017 m). */
+	double mapInsertLinDistance = 0.3;
+	double mapInsertAngDistance = mrpt::DEG2RAD(6.0);
+	double mapInsertBelowInliers = 0.95;
+	/** Odometry prior of each match: standard deviations (m, rad) of the prediction's error
+	 * (0 = no prior, the plain PM cost). Along directions the scan cannot see (a corridor)
+	 * the pose then stays where odometry put it instead of sliding. */
+	double odometryPriorSigmaXY = 0.0;
+	double odometryPriorSigmaPhi = 0.0;
+	/** Odometry at the scan's time, for the reported trajectory's smoother: when a scan comes
+	 * without odometry of its own, or with a copy of the latest odometry reading (Carmen loggers
+	 * that stamp FLASER lines with the last ODOM message: aces, intel), the odometry given to the
+	 * smoother is extrapolated from the last two timed readings to the scan's timestamp minus
+	 * scanLatency. A reading ~0.15 s old at 0.4 m/s is 6 cm stale along the track. The
+	 * prediction of the match keeps the reading as it is (moving it too made loop closure on
+	 * aces less reliable, for no gain). Off: the latest reading as it is. Causal: no future
+	 * reading used.
+	 * Not done for a bursty stream (more than 5 % of readings under 10 ms apart, as in intel):
+	 * its timestamps are delivery times and say nothing about when the robot was where. */
+	bool odometryToScanTime = true;
+	/** The scan was taken this long (s) before its timestamp (serial transfer of a SICK LMS at
+	 * 38.4 kbaud takes ~0.1 s). Only with odometryToScanTime. */
+	double scanLatency = 0.08;
+	/** Reported trajectory: fuse each scan's pose with the odometry increments (OdometrySmoother;
+	 * noise levels learned online), final odometrySmoothingLag scans later. The map and the
+	 * predictions keep the matched poses, so odometry drift never enters the map.
+	 * Read the poses with takeSmoothedPoses(). */
+	bool odometrySmoothing = true;
+	unsigned odometrySmoothingLag = 3;
+	/** A match that is mostly new ground is still accepted when the part that overlaps the map
+	 * agrees: at least minPoints inliers whose mean likelihood (inlierGoodness) is at least this
+	 * (a random pose scores ~0.2; 0 = off, only minGoodness). Without it a turn into an unmapped
+	 * corridor is rejected, not inserted, and the map never grows there again. */
+	double minOverlapGoodness = 0.6;
+	/** Leave out of the match the points that land in unexplored space more than two cells from
+	 * any obstacle (OccupancyDistanceGridMap::informativePoints): beyond the end of a mapped wall
+	 * they pull the robot back towards the known part, which along a plain corridor is the only
+	 * pull there is, and the trajectory comes up short. */
+	bool ignoreUnexploredPoints = false;
+	/** Wide basin: when the match from the prediction scores below wideSearchBelowGoodness (0 = never),
+	 * a correlative search within ±wideSearchLinear (m) and ±wideSearchAngular (rad) of the prediction
+	 * proposes other starting poses, each refined by PM; the best wins. Clean matches score 0.8–0.98,
+	 * so the search runs only where the prediction was off (a fast spin, a wheel slip). */
+	double wideSearchBelowGoodness = 0.7;
+	double wideSearchLinear = 0.5;
+	double wideSearchAngular = mrpt::DEG2RAD(30.0);
+	/** Re-localisation: after a time gap longer than relocalizeAfterGap (s), an odometry step longer
+	 * than relocalizeAfterJump (m), or a rejected match, the next match searches a window that grows
+	 * with the time since the last accepted match (relocalizeSpeed m/s, relocalizeTurnRate rad/s) up
+	 * to ±relocalizeMaxLinear (m) and ±180°, against the map built so far. */
+	double relocalizeAfterGap = 2.0;
+	double relocalizeAfterJump = 1.0;
+	double relocalizeSpeed = 0.5;
+	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);
+	double relocalizeMaxLinear = 4.0;
+	/** Match a scan at least this often (s of log) even when odometry says the robot stands still
+	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
+	 * wheels moves without its odometry knowing. */
+	double matchAtLeastEvery = 1.0;
+	/** Scans with fewer usable returns than this are not matched. */
+	unsigned minPoints = 20;
+	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
+	bool keepSimpleMap = true;
+	OccupancyGridUpdateOptions grid;
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+	void dumpToTextStream(std::ostream& out) const override;
+};
+
+class PerfectMatchSlam
+{
+   public:
+	PerfectMatchSlam();
+	virtual ~PerfectMatchSlam();
+
+	MapBuilderOptions PM_options;  ///< mapping options (apply before initialize())
+	PerfectMatchMatcher::TConfigParams PM_params;  ///< matcher options
+
+	/** What happened to the last scan. */
+	struct ScanResult
+	{
+		mrpt::math::TPose2D pose;  ///< robot pose assigned to the scan (map frame)
+		mrpt::math::TPose2D predicted;	///< odometry prediction it started from
+		std::optional<mrpt::math::TPose2D> odometry;  ///< odometry at the scan's time, as the smoother got it (its own frame)
+		bool matched = false, inserted = false;
+		bool wideSearch = false;  ///< the wide search ran for this scan
+		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
+		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
+		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
+		std::size_t cellsFlipped = 0;
+		PerfectMatchMatcher::MatchInfo info;
+	};
+
+	// --- what CMetricMapBuilder asks for (CMetricMapBuilderPM makes these its overrides) ---
+	/** Resets; optionally starts from an existing map (its scans are re-inserted) and pose x0. */
+	void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
+					const mrpt::poses::CPosePDF* x0 = nullptr);
+	/** Localisation on a prior map: resets the builder, loads `grid` (any COccupancyGridMap2D,
+	 * e.g. read from a .gridmap.gz written by pm-slam-app or by MRPT) as the fixed map, puts the
+	 * robot at `initialPose` (robot base in the grid's frame; m, m, rad) and turns map updating
+	 * off (setMapUpdating(false)): from then on every scan with enough returns is
+	 * matched against the fixed map starting from the odometry prediction, and nothing is inserted
+	 * (the keyframe CSimpleMap stays empty). Cells with occupancy above 0.5 are the obstacles.
+	 *
+	 * The map keeps the grid's own resolution (PM_options.grid.resolution is not used; the
+	 * distance truncation PM_options.grid.maxDistance is, at least two cells). The distance layer
+	 * needs cell boundaries on multiples of the resolution. MRPT's setSize() and deserialisation
+	 * put every grid there; one whose origin is off that lattice (resizeGrid() tolerates 5 % of a
+	 * cell) is moved onto the nearest lattice position, cells unchanged, i.e. shifted by less than
+	 * half a cell per axis (see fixedMapShift()), with a warning (warn()).
+	 * Throws std::invalid_argument for an empty grid or one without any occupied cell.
+	 * To map again afterwards: setMapUpdating(true) and initialize(). */
+	void initializeWithFixedMap(const mrpt::maps::COccupancyGridMap2D& grid, const mrpt::math::TPose2D& initialPose);
+	/** Sub-cell shift (m) applied to the last fixed map to put it on the resolution lattice
+	 * (zero for every grid pmslam or MRPT's setSize() made). */
+	mrpt::math::TPoint2D fixedMapShift() const { return m_fixedMapShift; }
+
+	mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const;
+	void processActionObservation(mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& in_SF);
+	void getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const;
+	unsigned int getCurrentlyBuiltMapSize();
+	const mrpt::maps::CMultiMetricMap* getCurrentlyBuiltMetricMap() const;
+	void saveCurrentEstimationToImage(const std::string& file, bool formatEMF_BMP = true);
+
+	/** Observation-only entry: CObservationOdometry updates odometry, CObservation2DRangeScan is processed. */
+	void processObservation(const mrpt::obs::CObservation::Ptr& obs);
+
+	// --- direct entry points (what the above call) ---
+	/** Latest odometry reading of the robot base (any frame; only increments are used), with
+	 * its time (s; NaN = unknown) for odometryToScanTime. */
+	void processOdometry(const mrpt::math::TPose2D& odometry, double timestamp = std::nan(""));
+	/** Processes one scan; `odometryAtScan`, when given, is the odometry at the scan's time
+	 * (Carmen FLASER lines carry it) and takes precedence over processOdometry() readings. */
+	const ScanResult& processScan(const mrpt::obs::CObservation2DRangeScan& scan,
+								  const std::optional<mrpt::math::TPose2D>& odometryAtScan = std::nullopt);
+
+	/** With odometrySmoothing: the scans whose reported pose became final since the last call,
+	 * oldest first, as (scan number from 0 in processScan() order, pose). With `finish`, every
+	 * pose still waiting for its look-ahead is finalised too (end of the log). */
+	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> takeSmoothedPoses(bool finish = false);
+	const OdometrySmoother* smoother() const { return m_smoother ? &*m_smoother : nullptr; }
+
+	const ScanResult& lastScanResult() const { return m_last; }
+	mrpt::math::TPose2D currentPose() const { return m_pose; }
+	const OccupancyDistanceGridMap& grid() const { return *m_grid; }
+	/** Writes getCurrentlyBuiltMap()'s keyframes to a .simplemap.gz without materialising
+	 * them all at once (see KeyframeStore). */
+	void saveSimpleMapGz(const std::string& path) const;
+	std::size_t scansProcessed() const { return m_scans; }
+	std::size_t scansMatched() const { return m_matched; }
+	std::size_t scansInserted() const { return m_inserted; }
+	std::size_t scansRejected() const { return m_rejected; }
+	std::size_t wideSearches() const { return m_wideSearches; }
+	std::size_t relocalizations() const { return m_relocalizations; }
+
+	/** A stretch of the log where no match was accepted: from the first rejected scan to the next
+	 * accepted one (or the last scan), in scan timestamps (s). Every pose in it is odometry only. */
+	struct TrackingGap
+	{
+		double from = 0, to = 0;
+		std::size_t scans = 0;	///< rejected scans in it
+		bool open = true;  ///< still going at the last scan
+	};
+	/** Every such stretch so far, oldest first. */
+	const std::vector<TrackingGap>& trackingGaps() const { return m_gaps; }
+
+	/** Whether scans are inserted into the map (off after initializeWithFixedMap()). */
+	virtual bool mapUpdating() const { return m_mapUpdating; }
+	virtual void setMapUpdating(bool on) { m_mapUpdating = on; }
+
+   protected:
+	/** One-line warnings (an odometry glitch, a fixed map moved onto the lattice); std::cerr here. */
+	virtual void warn(const std::string& message) const;
+	/** Held while a scan or the map changes; CMetricMapBuilderPM uses MRPT's critZoneChangingMap. */
+	virtual std::mutex& mapMutex() const { return m_mutex; }
+
+   private:
+	bool m_mapUpdating = true;
+	mutable std::mutex m_mutex;
+	std::shared_ptr<OccupancyDistanceGridMap> m_grid;
+	mrpt::maps::CMultiMetricMap m_metricMap;
+	mrpt::maps::CSimpleMap m_initialKeyframes;  // of initialize(initialMap), kept as given
+	KeyframeStore m_keyframes;	// the scans inserted since, compact
+	PerfectMatchMatcher m_matcher;
+	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
+	mrpt::math::TPose2D m_lastInsertPose{0, 0, 0};
+	mrpt::math::TPose2D m_lastMapPose{0, 0, 0};  // pose of the last scan inserted into the grid
+	std::optional<mrpt::math::TPose2D> m_odometry;	// latest reading
+	// The last two timed readings (time s, pose), oldest first, for odometryToScanTime.
+	std::optional<std::pair<double, mrpt::math::TPose2D>> m_timedOdometry[2];
+	std::size_t m_timedReadings = 0, m_burstReadings = 0;
+	std::optional<mrpt::math::TPose2D> odometryAtTime(double t) const;
+	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
+	std::optional<OdometrySmoother> m_smoother;
+	bool m_mapEmpty = true;
+	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0;
+	std::size_t m_wideSearches = 0, m_relocalizations = 0;
+	std::vector<TrackingGap> m_gaps;
+	double m_lastScanTime = std::nan(""), m_lastAcceptedTime = std::nan(""), m_lastMatchTime = std::nan("");
+	bool m_lost = false;  // the last match was rejected
+	/** PM from the prediction, and the wide search where that is not good enough. */
+	mrpt::math::TPose2D matchScan(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& predicted,
+								  const PerfectMatchMatcher::PosePrior* prior, double linWindow, double angWindow,
+								  ScanResult& r);
+	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
+	ScanResult m_last;
+	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
+};
+
+}  // namespace pmslam

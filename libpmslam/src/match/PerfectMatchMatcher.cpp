@@ -1,0 +1,525 @@
+/* pmslam — Perfect Match matcher (see PerfectMatchMatcher.h). */
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+#include <pmslam/match/PerfectMatchMatcher.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+
+namespace pmslam
+{
+std::string toString(PerfectMatchMatcher::Optimizer o)
+{
+	switch (o)
+	{
+		case PerfectMatchMatcher::Optimizer::RPROP: return "RPROP";
+		case PerfectMatchMatcher::Optimizer::GaussNewton: return "GaussNewton";
+		case PerfectMatchMatcher::Optimizer::LevenbergMarquardt: return "LevenbergMarquardt";
+	}
+	return "?";
+}
+
+std::string toString(PerfectMatchMatcher::RobustKernel k)
+{
+	switch (k)
+	{
+		case PerfectMatchMatcher::RobustKernel::PerfectMatch: return "PerfectMatch";
+		case PerfectMatchMatcher::RobustKernel::None: return "None";
+		case PerfectMatchMatcher::RobustKernel::Huber: return "Huber";
+	}
+	return "?";
+}
+
+namespace
+{
+template <typename E>
+E parseEnum(const std::string& key, const std::string& value, std::initializer_list<E> all)
+{
+	std::string known;
+	for (E e : all)
+	{
+		if (toString(e) == value) return e;
+		known += (known.empty() ? "" : ", ") + toString(e);
+	}
+	throw std::invalid_argument("[PerfectMatch] " + key + " = '" + value + "': expected one of " + known);
+}
+
+void requireRange(const char* key, double v, double lo, double hi)
+{
+	if (!(v >= lo && v <= hi))
+		throw std::invalid_argument(std::string("[PerfectMatch] ") + key + " = " + std::to_string(v) +
+									": expected a value in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+}  // namespace
+
+void PerfectMatchMatcher::TConfigParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+															 const std::string& s)
+{
+	optimizer = parseEnum(
+		"optimizer", c.read_string(s, "optimizer", toString(optimizer)),
+		{Optimizer::RPROP, Optimizer::GaussNewton, Optimizer::LevenbergMarquardt});
+	robustKernel = parseEnum("robustKernel", c.read_string(s, "robustKernel", toString(robustKernel)),
+							 {RobustKernel::PerfectMatch, RobustKernel::None, RobustKernel::Huber});
+	sigma = c.read_double(s, "sigma", sigma);
+	maxIterations = static_cast<unsigned>(c.read_int(s, "maxIterations", static_cast<int>(maxIterations)));
+	rpropInitialStepXY = c.read_double(s, "rpropInitialStepXY", rpropInitialStepXY);
+	rpropInitialStepPhi = c.read_double(s, "rpropInitialStepPhi", rpropInitialStepPhi);
+	rpropIncrease = c.read_double(s, "rpropIncrease", rpropIncrease);
+	rpropDecrease = c.read_double(s, "rpropDecrease", rpropDecrease);
+	rpropMaxStepXY = c.read_double(s, "rpropMaxStepXY", rpropMaxStepXY);
+	rpropMaxStepPhi = c.read_double(s, "rpropMaxStepPhi", rpropMaxStepPhi);
+	rpropRefineIterations =
+		static_cast<unsigned>(c.read_int(s, "rpropRefineIterations", static_cast<int>(rpropRefineIterations)));
+	rpropPatience = static_cast<unsigned>(c.read_int(s, "rpropPatience", static_cast<int>(rpropPatience)));
+	minStepXY = c.read_double(s, "minStepXY", minStepXY);
+	minStepPhi = c.read_double(s, "minStepPhi", minStepPhi);
+	decimation = static_cast<unsigned>(c.read_int(s, "decimation", static_cast<int>(decimation)));
+	maxDistance = c.read_double(s, "maxDistance", maxDistance);
+	occupiedThreshold = c.read_double(s, "occupiedThreshold", occupiedThreshold);
+	useInitialCovarianceAsPrior = c.read_bool(s, "useInitialCovarianceAsPrior", useInitialCovarianceAsPrior);
+
+	requireRange("sigma", sigma, 1e-4, 10);
+	requireRange("maxIterations", maxIterations, 1, 10000);
+	requireRange("rpropInitialStepXY", rpropInitialStepXY, 1e-6, 10);
+	requireRange("rpropInitialStepPhi", rpropInitialStepPhi, 1e-6, 3);
+	requireRange("rpropIncrease", rpropIncrease, 1.0, 10);
+	requireRange("rpropDecrease", rpropDecrease, 0.01, 1.0);
+	requireRange("rpropMaxStepXY", rpropMaxStepXY, 1e-6, 10);
+	requireRange("rpropMaxStepPhi", rpropMaxStepPhi, 1e-6, 3);
+	requireRange("rpropRefineIterations", rpropRefineIterations, 0, 100);
+	requireRange("rpropPatience", rpropPatience, 0, 10000);
+	requireRange("minStepXY", minStepXY, 0, 1);
+	requireRange("minStepPhi", minStepPhi, 0, 1);
+	requireRange("decimation", decimation, 1, 1000);
+	requireRange("maxDistance", maxDistance, 1e-3, 100);
+	requireRange("occupiedThreshold", occupiedThreshold, 0.01, 0.99);
+}
+
+void PerfectMatchMatcher::TConfigParams::dumpToTextStream(std::ostream& out) const
+{
+	out << "optimizer = " << toString(optimizer) << "\nrobustKernel = " << toString(robustKernel)
+		<< "\nsigma = " << sigma << "\nmaxIterations = " << maxIterations
+		<< "\nrpropInitialStepXY = " << rpropInitialStepXY << "\nrpropInitialStepPhi = " << rpropInitialStepPhi
+		<< "\nrpropIncrease = " << rpropIncrease << "\nrpropDecrease = " << rpropDecrease
+		<< "\nrpropMaxStepXY = " << rpropMaxStepXY << "\nrpropMaxStepPhi = " << rpropMaxStepPhi
+		<< "\nrpropRefineIterations = " << rpropRefineIterations << "\nrpropPatience = " << rpropPatience
+		<< "\nminStepXY = " << minStepXY << "\nminStepPhi = " << minStepPhi << "\ndecimation = " << decimation
+		<< "\nmaxDistance = " << maxDistance << "\noccupiedThreshold = " << occupiedThreshold
+		<< "\nuseInitialCovarianceAsPrior = " << useInitialCovarianceAsPrior << "\n";
+}
+
+namespace
+{
+/** Everything the optimisers need from one pass over the points. */
+struct Evaluation
+{
+	double cost = 0;  // Σ ln(1 + Δ²/σ²)
+	double kernelCost = 0;	// cost of the GN/LM kernel
+	Eigen::Vector3d gradient = Eigen::Vector3d::Zero();	 // of cost
+	Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();	// Gauss-Newton curvature of cost
+	Eigen::Matrix3d JtWJ = Eigen::Matrix3d::Zero();
+	Eigen::Vector3d JtWr = Eigen::Vector3d::Zero();
+	std::size_t n = 0, inliers = 0;
+	double likelihoodSum = 0, inlierLikelihoodSum = 0;
+};
+
+int sign(double v) { return (v > 0) - (v < 0); }
+
+// ln(y) for y >= 1 to about 1e-4: exponent from the float's bits plus a polynomial for the
+// mantissa's log2. RPROP only compares costs of nearby poses, for which this is plenty,
+// and it is several times cheaper than std::log1p in the hot loop.
+inline float fastLog(float y)
+{
+	uint32_t bits;
+	std::memcpy(&bits, &y, sizeof bits);
+	const float exponent = static_cast<float>(static_cast<int>(bits >> 23) - 127);
+	bits = (bits & 0x7FFFFFu) | 0x3F800000u;
+	float m;
+	std::memcpy(&m, &bits, sizeof m);
+	const float log2m = -1.7417939f + (2.8212026f + (-1.4699568f + (0.44717955f - 0.056570851f * m) * m) * m) * m;
+	return (exponent + log2m) * 0.69314718f;
+}
+
+class CostFunction
+{
+   public:
+	CostFunction(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& pts,
+				 const PerfectMatchMatcher::TConfigParams& o, const PerfectMatchMatcher::PosePrior* prior = nullptr)
+		: m_map(map), m_pts(pts), m_step(std::max(1u, o.decimation)), m_s2(o.sigma * o.sigma),
+		  m_invS2(1.0 / (o.sigma * o.sigma)), m_sigma(o.sigma),
+		  m_kernel(o.robustKernel), m_far(map.maxDistance() * (1.0 - 1e-6)), m_prior(prior)
+	{
+	}
+
+	enum Need : unsigned
+	{
+		kGradient = 0,	// RPROP iterations: the gradient is all they use
+		kCost = 1,
+		kNormal = 2,  // GN/LM: weighted normal equations and the kernel's cost
+		kCurvature = 4	// the final pose: curvature and statistics
+	};
+
+	Evaluation operator()(const Eigen::Vector3d& x, unsigned need) const
+	{
+		if (!(need & (kNormal | kCurvature))) return gradientAndFastCost(x, need & kCost);
+		Evaluation e;
+		const double c = std::cos(x[2]), s = std::sin(x[2]);
+		double g0 = 0, g1 = 0, g2 = 0, cost = 0;
+		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
+		{
+			const double px = m_pts[i].x, py = m_pts[i].y;
+			const double rx = c * px - s * py, ry = s * px + c * py;  // rotated point
+			double gx, gy;
+			const double d = m_map.distanceAt(x[0] + rx, x[1] + ry, &gx, &gy);
+			const double ratio = 1.0 + d * d * m_invS2;	 // (σ² + Δ²) / σ²
+			// dΔ/d(x, y, θ): the map gradient chained through the endpoint's pose Jacobian;
+			// d ln(σ²+Δ²) / dΔ = 2Δ / (σ²+Δ²).
+			const double jth = -gx * ry + gy * rx;
+			const double k = 2.0 * d * m_invS2 / ratio;
+			g0 += k * gx;
+			g1 += k * gy;
+			g2 += k * jth;
+			const double denom = m_s2 * ratio;
+			const double pointCost = std::log1p(d * d / m_s2);
+			++e.n;
+			cost += pointCost;
+			if (need & kCurvature)
+			{
+				const Eigen::Vector3d J(gx, gy, jth);
+				e.likelihoodSum += m_s2 / denom;
+				if (d < m_far)
+				{
+					++e.inliers;
+					e.inlierLikelihoodSum += m_s2 / denom;
+				}
+				e.hessian += (2.0 / denom) * (J * J.transpose());
+			}
+			if (need & kNormal)
+			{
+				const Eigen::Vector3d J(gx, gy, jth);
+				double w = 1.0;
+				switch (m_kernel)
+				{
+					case PerfectMatchMatcher::RobustKernel::PerfectMatch:
+						w = m_s2 / denom;
+						e.kernelCost += pointCost;
+						break;
+					case PerfectMatchMatcher::RobustKernel::None:
+						e.kernelCost += d * d / m_s2;
+						break;
+					case PerfectMatchMatcher::RobustKernel::Huber:
+						w = d <= m_sigma ? 1.0 : m_sigma / d;
+						e.kernelCost += d <= m_sigma ? d * d / m_s2 : 2.0 * d / m_sigma - 1.0;
+						break;
+				}
+				e.JtWJ += w * (J * J.transpose());
+				e.JtWr += w * d * J;
+			}
+		}
+		e.cost = cost;
+		e.gradient = Eigen::Vector3d(g0, g1, g2);
+		if (m_prior) addPrior(x, need, e);
+		return e;
+	}
+
+	// The RPROP iteration: gradient (and the approximate cost) only, in float cell units
+	// relative to the cell under the pose, so single precision stays exact to ~1e-4 cell
+	// however far the robot is from the origin. Same cost and gradient as the general path.
+	Evaluation gradientAndFastCost(const Eigen::Vector3d& x, bool withCost) const
+	{
+		Evaluation e;
+		const double inv = 1.0 / m_map.resolution();
+		const double u0 = x[0] * inv - 0.5, v0 = x[1] * inv - 0.5;	// cell-centre lattice
+		const float far = static_cast<float>(m_map.maxDistance());
+		double g0 = 0, g1 = 0, g2 = 0, cost = 0;
+		const std::size_t n = (m_pts.size() + m_step - 1) / m_step;
+		if (!(std::abs(u0) < 1e9 && std::abs(v0) < 1e9))
+		{
+			// Nowhere near anything mapped: every point at the truncation, no gradient.
+			e.n = n;
+			e.cost = withCost ? n * std::log1p(double(far) * far * m_invS2) : 0.0;
+			if (m_prior) addPrior(x, withCost ? kCost : kGradient, e);
+			return e;
+		}
+		const double bu = std::floor(u0), bv = std::floor(v0);
+		const int baseI = static_cast<int>(bu), baseJ = static_cast<int>(bv);
+		const float fu = static_cast<float>(u0 - bu), fv = static_cast<float>(v0 - bv);
+		const float cs = static_cast<float>(std::cos(x[2]) * inv), sn = static_cast<float>(std::sin(x[2]) * inv);
+		const float invS2 = static_cast<float>(m_invS2);
+		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
+		{
+			const float px = m_pts[i].x, py = m_pts[i].y;
+			const float ru = cs * px - sn * py, rv = sn * px + cs * py;	// rotated point, cells
+			const float u = fu + ru, v = fv + rv;
+			float d, dU = 0, dV = 0;
+			if (std::abs(u) < 1e8f && std::abs(v) < 1e8f)
+			{
+				int iu = static_cast<int>(u), iv = static_cast<int>(v);
+				iu -= u < static_cast<float>(iu);  // floor
+				iv -= v < static_cast<float>(iv);
+				d = m_map.sampleBilinear(baseI + iu, baseJ + iv, u - iu, v - iv, dU, dV);
+			}
+			else
+				d = far;
+			const float ratio = 1.0f + d * d * invS2;	 // (σ² + Δ²) / σ²
+			const float k = 2.0f * d * invS2 / ratio;  // d ln(σ²+Δ²) / dΔ
+			// Chain rule through the endpoint's pose Jacobian: ∂u/∂θ = −rv, ∂v/∂θ = ru (cells).
+			g0 += k * dU;
+			g1 += k * dV;
+			g2 += k * (dV * ru - dU * rv);
+			if (withCost) cost += fastLog(ratio);
+		}
+		e.n = n;
+		e.cost = cost;
+		// dU, dV and the θ term are per cell: ×1/resolution gives per metre (θ: cells × m/cell
+		// cancels to the same units as the general path).
+		e.gradient = Eigen::Vector3d(g0 * inv, g1 * inv, g2);
+		if (m_prior) addPrior(x, withCost ? kCost : kGradient, e);
+		return e;
+	}
+
+	// ½ eᵀ Λ e with e = x − mean. The normal equations above approximate (σ²/2)·cost, so the
+	// prior enters them with the same factor.
+	void addPrior(const Eigen::Vector3d& x, unsigned need, Evaluation& e) const
+	{
+		const Eigen::Vector3d err(x[0] - m_prior->mean.x, x[1] - m_prior->mean.y,
+								  std::remainder(x[2] - m_prior->mean.phi, 2 * M_PI));
+		const Eigen::Matrix3d& L = m_prior->information;
+		const Eigen::Vector3d Le = L * err;
+		const double p = 0.5 * err.dot(Le);
+		e.cost += p;
+		e.kernelCost += p;
+		e.gradient += Le;
+		if (need & kCurvature) e.hessian += L;
+		if (need & kNormal)
+		{
+			e.JtWJ += 0.5 * m_s2 * L;
+			e.JtWr += 0.5 * m_s2 * Le;
+		}
+	}
+
+   private:
+	const DynamicDistanceMap& m_map;
+	const std::vector<mrpt::math::TPoint2Df>& m_pts;
+	const std::size_t m_step;
+	const double m_s2, m_invS2, m_sigma;
+	const PerfectMatchMatcher::RobustKernel m_kernel;
+	const double m_far;
+	const PerfectMatchMatcher::PosePrior* m_prior;
+};
+
+
+
+}  // namespace
+
+PerfectMatchMatcher::PosePrior PerfectMatchMatcher::PosePrior::diagonal(const mrpt::math::TPose2D& mean,
+																		  double sigmaXY, double sigmaPhi)
+{
+	PosePrior p;
+	p.mean = mean;
+	p.information.diagonal() << 1.0 / (sigmaXY * sigmaXY), 1.0 / (sigmaXY * sigmaXY), 1.0 / (sigmaPhi * sigmaPhi);
+	return p;
+}
+
+PerfectMatchMatcher::MatchInfo PerfectMatchMatcher::evaluate(const DynamicDistanceMap& map,
+															   const std::vector<mrpt::math::TPoint2Df>& points,
+															   const mrpt::math::TPose2D& pose) const
+{
+	TConfigParams o = options;
+	o.decimation = 1;
+	const Evaluation e = CostFunction(map, points, o)(Eigen::Vector3d(pose.x, pose.y, pose.phi), CostFunction::kCurvature);
+	MatchInfo info;
+	info.nPoints = e.n;
+	info.finalCost = e.n ? e.cost / e.n : 0.0;
+	info.inlierFraction = e.n ? double(e.inliers) / e.n : 0.0;
+	info.goodness = e.n ? e.likelihoodSum / e.n : 0.0;
+	info.inlierGoodness = e.inliers ? e.inlierLikelihoodSum / e.inliers : 0.0;
+	info.hessian = e.hessian;
+	return info;
+}
+
+double PerfectMatchMatcher::cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
+								 const mrpt::math::TPose2D& pose) const
+{
+	TConfigParams o = options;
+	o.decimation = 1;
+	return CostFunction(map, points, o)(Eigen::Vector3d(pose.x, pose.y, pose.phi), CostFunction::kCost).cost;
+}
+
+mrpt::math::TPose2D PerfectMatchMatcher::alignPoints(const DynamicDistanceMap& map,
+													 const std::vector<mrpt::math::TPoint2Df>& points,
+													 const mrpt::math::TPose2D& initial, MatchInfo* info,
+													 Eigen::Matrix3d* covariance, const PosePrior* prior) const
+{
+	// Non-finite points (a corrupt scan) would poison every sum: leave them out.
+	std::vector<mrpt::math::TPoint2Df> finitePoints;
+	const std::vector<mrpt::math::TPoint2Df>* pts = &points;
+	if (!std::all_of(points.begin(), points.end(), [](const auto& p) { return std::isfinite(p.x) && std::isfinite(p.y); }))
+	{
+		for (const auto& p : points)
+			if (std::isfinite(p.x) && std::isfinite(p.y)) finitePoints.push_back(p);
+		pts = &finitePoints;
+	}
+	if (!std::isfinite(initial.x) || !std::isfinite(initial.y) || !std::isfinite(initial.phi))
+		throw std::invalid_argument("PerfectMatchMatcher: the initial pose is not finite");
+	const CostFunction f(map, *pts, options, prior);
+	Eigen::Vector3d x(initial.x, initial.y, initial.phi);
+	const bool rprop = options.optimizer == Optimizer::RPROP;
+	unsigned it = 0;
+
+	// Damped (LM) or plain Gauss-Newton on the weighted normal equations, from x.
+	auto gaussNewton = [&](Eigen::Vector3d x, unsigned maxIterations, bool damped) {
+		Evaluation cur = f(x, CostFunction::kNormal);
+		double lambda = damped ? 1e-3 : 0.0;
+		for (unsigned k = 0; k < maxIterations; ++k, ++it)
+		{
+			Eigen::Matrix3d A = cur.JtWJ;
+			if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
+			A.diagonal().array() += 1e-9;
+			if (!A.allFinite() || !cur.JtWr.allFinite()) break;	 // never hand NaN to the solver
+			Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
+			if (!dx.allFinite()) break;
+			Eigen::Vector3d xn = x + dx;
+			Evaluation next = f(xn, CostFunction::kNormal);
+			if (damped)
+			{
+				if (next.kernelCost > cur.kernelCost)
+				{
+					lambda *= 10;
+					if (lambda > 1e8) break;
+					continue;
+				}
+				lambda = std::max(1e-7, lambda / 10);
+			}
+			else
+			{
+				// A full Gauss-Newton step can overshoot into another basin where the
+				// linearisation is poor: halve it until the cost does not increase.
+				int halvings = 0;
+				while (next.kernelCost > cur.kernelCost && halvings < 4)
+				{
+					dx *= 0.5;
+					xn = x + dx;
+					next = f(xn, CostFunction::kNormal);
+					++halvings;
+				}
+				if (next.kernelCost > cur.kernelCost) break;  // no descent left: at the minimum
+			}
+			x = xn;
+			cur = next;
+			if (std::abs(dx[0]) < options.minStepXY && std::abs(dx[1]) < options.minStepXY &&
+				std::abs(dx[2]) < options.minStepPhi)
+			{
+				++it;
+				break;
+			}
+		}
+		return x;
+	};
+
+	Eigen::Vector3d best(initial.x, initial.y, initial.phi);
+	if (rprop)
+	{
+		// iRprop−: each parameter has its own step that grows while the gradient
+		// keeps its sign and shrinks when it flips; only the sign of the gradient
+		// is used, which makes it insensitive to the scale of the cost. It can
+		// overshoot, so the best pose seen is the answer.
+		Eigen::Vector3d x = best;
+		Evaluation cur = f(x, CostFunction::kCost);
+		double bestCost = cur.cost;
+		Eigen::Vector3d step(options.rpropInitialStepXY, options.rpropInitialStepXY, options.rpropInitialStepPhi);
+		const Eigen::Vector3d maxStep(options.rpropMaxStepXY, options.rpropMaxStepXY, options.rpropMaxStepPhi);
+		const Eigen::Vector3d minStep(options.minStepXY, options.minStepXY, options.minStepPhi);
+		Eigen::Vector3d prevGrad = Eigen::Vector3d::Zero();
+		unsigned sinceBest = 0;
+		for (it = 0; it < options.maxIterations; ++it)
+		{
+			Eigen::Vector3d g = cur.gradient;
+			for (int k = 0; k < 3; ++k)
+			{
+				const double agree = g[k] * prevGrad[k];
+				if (agree > 0)
+					step[k] = std::min(step[k] * options.rpropIncrease, maxStep[k]);
+				else if (agree < 0)
+				{
+					step[k] = step[k] * options.rpropDecrease;
+					g[k] = 0;  // skip the update after a sign change
+				}
+				x[k] -= sign(g[k]) * step[k];
+			}
+			prevGrad = g;
+			cur = f(x, CostFunction::kCost);
+			if (cur.cost < bestCost - 1e-9 * std::abs(bestCost))
+			{
+				bestCost = cur.cost;
+				best = x;
+				sinceBest = 0;
+			}
+			else
+				++sinceBest;
+			// Converged: every step is tiny, or the best pose has not improved for a while
+			// (RPROP then only oscillates around it with shrinking steps).
+			if ((step.array() < minStep.array()).all() ||
+				(options.rpropPatience > 0 && sinceBest >= options.rpropPatience))
+			{
+				++it;
+				break;
+			}
+		}
+		// RPROP finds the basin; its sign-only steps end in a small oscillation. A few
+		// Gauss-Newton steps on the same cost land on the minimum itself, and are kept
+		// only if the cost agrees.
+		if (options.rpropRefineIterations > 0)
+		{
+			const Eigen::Vector3d refined = gaussNewton(best, options.rpropRefineIterations, false);
+			if (f(refined, CostFunction::kCost).cost <= bestCost) best = refined;
+		}
+	}
+	else
+		best = gaussNewton(best, options.maxIterations, options.optimizer == Optimizer::LevenbergMarquardt);
+
+	const Evaluation fin = f(best, CostFunction::kCurvature);
+	if (info)
+	{
+		info->nIterations = it;
+		info->nPoints = fin.n;
+		info->finalCost = fin.n ? fin.cost / fin.n : 0.0;
+		info->inlierFraction = fin.n ? double(fin.inliers) / fin.n : 0.0;
+		info->goodness = fin.n ? fin.likelihoodSum / fin.n : 0.0;
+		info->inlierGoodness = fin.inliers ? fin.inlierLikelihoodSum / fin.inliers : 0.0;
+		info->hessian = fin.hessian;
+	}
+	if (covariance)
+	{
+		// Inverse curvature; a tiny ridge keeps a degenerate direction (a corridor)
+		// finite but very uncertain instead of singular.
+		Eigen::Matrix3d H = fin.hessian;
+		H.diagonal().array() += 1e-6;
+		*covariance = H.inverse();
+	}
+	return mrpt::math::TPose2D(best[0], best[1], mrpt::math::wrapToPi(best[2]));
+}
+
+DynamicDistanceMap PerfectMatchMatcher::distanceMapFromGrid(const mrpt::maps::COccupancyGridMap2D& grid,
+															 double maxDistance, double occupiedThreshold)
+{
+	const double r = grid.getResolution();
+	DynamicDistanceMap dm(r, maxDistance);
+	const int offX = static_cast<int>(std::lround(grid.getXMin() / r));
+	const int offY = static_cast<int>(std::lround(grid.getYMin() / r));
+	// MRPT cells hold the probability of being free.
+	const float freeBelow = static_cast<float>(1.0 - occupiedThreshold);
+	for (unsigned iy = 0; iy < grid.getSizeY(); ++iy)
+		for (unsigned ix = 0; ix < grid.getSizeX(); ++ix)
+			if (grid.getCell(ix, iy) < freeBelow) dm.addObstacle(int(ix) + offX, int(iy) + offY);
+	dm.update();
+	return dm;
+}
+
+}  // namespace pmslam
