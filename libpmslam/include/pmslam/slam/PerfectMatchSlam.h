@@ -127,7 +127,7 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	/** Match a scan at least this often (s of log) even when odometry says the robot stands still
 	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
 	 * wheels moves without its odometry knowing. */
-	double matchAtLeastEvery = 1.0;
+	double matchAtLeastEvery = 0.0;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
