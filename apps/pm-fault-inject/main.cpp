@@ -184,6 +184,7 @@ int main(int argc, char** argv)
 		if (l.t < gapUntil)
 		{
 			l.keep = false;
+			if (l.scan) ++scanNo;  // scan numbers are the input's, as for the other faults
 			continue;
 		}
 		const mrpt::poses::CPose2D raw = poseAt(l, odomIndex(l));

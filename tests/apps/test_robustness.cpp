@@ -1,0 +1,310 @@
+// pm-slam-app end to end on synthetic Carmen logs with known truth, where tracking is hard:
+// a stretch of scans from another world (tracking lost: said loudly, exit 3), a turn into an
+// unmapped corridor (the map must grow there), and wheel slips (the wide search recovers).
+#include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <pmslam/io/MapExport.h>
+#include <pmslam/io/Trajectory.h>
+
+#include <cstdlib>
+#include <iostream>
+#include <regex>
+
+#include "RunProgram.h"
+#include "SyntheticLogs.h"
+
+namespace fs = std::filesystem;
+using namespace pmslam::testing;
+using mrpt::math::TPose2D;
+
+namespace
+{
+const std::string kApp = PMSLAM_BINARY_DIR "/bin/pm-slam-app";
+const std::string kInject = PMSLAM_BINARY_DIR "/bin/pm-fault-inject";
+const bool kVerbose = std::getenv("PMSLAM_TEST_VERBOSE") != nullptr;
+
+struct AppRun
+{
+	RunResult result;
+	pmslam::Trajectory traj;
+	std::vector<std::vector<double>> timing;  // the columns of timing.txt, per scan
+	fs::path out;
+};
+
+AppRun mapLog(const ScratchDir& d, const std::string& log, const std::string& name, const std::string& extra = "")
+{
+	AppRun a;
+	a.out = d.path("out-" + name);
+	a.result = run(quote(kApp) + " --no-progress " + extra + " --out " + quote(a.out.string()) + " " + quote(log));
+	if (fs::exists(a.out / "trajectory.txt")) a.traj = pmslam::loadTrajectory((a.out / "trajectory.txt").string());
+	std::ifstream in(a.out / "timing.txt");
+	for (std::string line; std::getline(in, line);)
+	{
+		if (line.empty() || line[0] == '#') continue;
+		std::istringstream ss(line);
+		std::vector<double> row;
+		for (double v; ss >> v;) row.push_back(v);
+		a.timing.push_back(row);
+	}
+	if (kVerbose) std::cout << name << ": exit " << a.result.exitCode << "\n" << a.result.output;
+	return a;
+}
+
+/** Position error of scan k against the truth relative to its first pose. */
+double errorAt(const pmslam::Trajectory& traj, const std::vector<TPose2D>& truth, std::size_t k)
+{
+	const auto t = relativeToFirst(truth, k);
+	return std::hypot(traj[k].x - t.x, traj[k].y - t.y);
+}
+double maxError(const pmslam::Trajectory& traj, const std::vector<TPose2D>& truth)
+{
+	double m = 0;
+	for (std::size_t k = 0; k < std::min(traj.size(), truth.size()); ++k) m = std::max(m, errorAt(traj, truth, k));
+	return m;
+}
+
+/** Longest run of consecutive scans with tracking state 3 (match rejected) in timing.txt. */
+std::size_t longestRejectedRun(const AppRun& a)
+{
+	std::size_t best = 0, cur = 0;
+	for (const auto& row : a.timing)
+	{
+		cur = row.size() >= 9 && row[8] == 3 ? cur + 1 : 0;
+		best = std::max(best, cur);
+	}
+	return best;
+}
+
+std::size_t countLines(const std::string& text, const std::string& what)
+{
+	std::size_t n = 0;
+	for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+	return n;
+}
+
+/** The lines of a Carmen log written by carmenLog without ODOM lines: two header lines, one per scan. */
+std::vector<std::string> splitLines(const std::string& s)
+{
+	std::vector<std::string> v;
+	std::istringstream ss(s);
+	for (std::string l; std::getline(ss, l);) v.push_back(l);
+	return v;
+}
+
+/** A world nothing of the furnished room looks like: a field of slanted sticks at odd angles. */
+SyntheticWorld stickField()
+{
+	SyntheticWorld w;
+	std::mt19937 rng(42);
+	std::uniform_real_distribution<double> u(-9, 9), a(0, M_PI);
+	for (int i = 0; i < 60; ++i)
+	{
+		const double x = u(rng), y = u(rng), t = a(rng);
+		w.segments.push_back({x, y, x + 0.6 * std::cos(t), y + 0.6 * std::sin(t)});
+	}
+	return w;
+}
+
+/** An L-shaped building: corridor 1 along +x (y in [-1, 1], x in [-1, L1]), turning left at its end
+ * into corridor 2 along +y (x in [L1 - W2, L1], y from 1 to L2). Both have niches and pillars so that
+ * they can be matched along their length. */
+struct LBuilding
+{
+	double L1 = 20, W2 = 2, L2 = 20;
+	double door = 0;  ///< > 0: corridor 2 is entered through a door this wide in a wall at y = 1
+	SyntheticWorld world() const
+	{
+		SyntheticWorld w;
+		const double x2 = L1 - W2;	// corridor 2's left wall
+		w.segments.push_back({-1, -1, L1, -1});
+		w.segments.push_back({L1, -1, L1, L2});
+		w.segments.push_back({L1, L2, x2, L2});
+		w.segments.push_back({x2, L2, x2, 1});
+		w.segments.push_back({x2, 1, -1, 1});
+		if (door > 0)
+		{
+			const double xc = L1 - W2 / 2;
+			w.segments.push_back({x2, 1, xc - door / 2, 1});
+			w.segments.push_back({xc + door / 2, 1, L1, 1});
+		}
+		w.segments.push_back({-1, 1, -1, -1});
+		// Corridor 1: boxes against the walls every 3 m, alternating sides.
+		for (int i = 0; i * 3.0 + 1.0 < x2 - 1; ++i)
+		{
+			const double x = 1.0 + 3.0 * i;
+			if (i % 2)
+				w.addBox(x, 0.7, x + 0.4, 1.0);
+			else
+				w.addBox(x, -1.0, x + 0.5, -0.75);
+		}
+		// Corridor 2: the same, along y.
+		for (int i = 0; i * 2.5 + 3.0 < L2 - 1; ++i)
+		{
+			const double y = 3.0 + 2.5 * i;
+			if (i % 2)
+				w.addBox(x2, y, x2 + 0.3, y + 0.4);
+			else
+				w.addBox(L1 - 0.25, y, L1, y + 0.5);
+		}
+		return w;
+	}
+	/** Along corridor 1 to the corner, a turn on the spot in `turnScans` scans, up corridor 2. */
+	std::vector<TPose2D> path(double step, std::size_t turnScans) const
+	{
+		std::vector<TPose2D> p;
+		const double xc = L1 - W2 / 2;
+		for (double x = 0; x < xc; x += step) p.push_back({x, 0, 0});
+		for (std::size_t k = 0; k < turnScans; ++k) p.push_back({xc, 0, M_PI / 2 * double(k) / double(turnScans)});
+		for (double y = 0; y < L2 - 2; y += step) p.push_back({xc, y, M_PI / 2});
+		return p;
+	}
+};
+}  // namespace
+
+TEST(Robustness, LostTrackingIsLoud)
+{
+	// 40 s in the furnished room; from t0+12 s to t0+27 s the scans come from another world.
+	ScratchDir d("robust-lost");
+	const auto truth = roomPath(400);
+	CarmenLogSpec spec;
+	const auto room = splitLines(carmenLog(furnishedRoom(), truth, truth, spec));
+	const auto other = splitLines(carmenLog(stickField(), truth, truth, spec));
+	ASSERT_EQ(room.size(), truth.size() + 2);
+	const double from = spec.t0 + 12.0, to = spec.t0 + 27.0;
+	std::string text;
+	for (std::size_t i = 0; i < room.size(); ++i)
+	{
+		const double t = spec.t0 + spec.dt * (double(i) - 2);
+		text += (i >= 2 && t >= from - 1e-9 && t < to - 1e-9 ? other[i] : room[i]) + "\n";
+	}
+	const auto log = d.write("lost.clf", text);
+
+	const auto a = mapLog(d, log, "lost");
+	EXPECT_EQ(a.result.exitCode, 3) << a.result.output;
+	ASSERT_EQ(a.traj.size(), truth.size()) << a.result.output;
+	// One warning, whose span covers the injected stretch (and ends soon after it).
+	ASSERT_EQ(countLines(a.result.output, "tracking lost from t="), 1u) << a.result.output;
+	std::smatch m;
+	ASSERT_TRUE(std::regex_search(a.result.output, m, std::regex(R"(tracking lost from t=([0-9.]+) to t=([0-9.]+))")));
+	const double gapFrom = std::stod(m[1]), gapTo = std::stod(m[2]);
+	EXPECT_GE(gapFrom, from - 1e-6);
+	EXPECT_LE(gapFrom, from + 0.5);
+	EXPECT_GE(gapTo, to - 1e-6);
+	EXPECT_LE(gapTo, to + 1.0);
+	EXPECT_NE(a.result.output.find("tracking: LOST (exit status 3)"), std::string::npos) << a.result.output;
+	// timing.txt: rejected (3) throughout the stretch, never outside the warned span.
+	ASSERT_EQ(a.timing.size(), truth.size());
+	std::size_t rejectedInside = 0, inside = 0;
+	for (const auto& row : a.timing)
+	{
+		ASSERT_GE(row.size(), 10u);
+		const double t = row[0];
+		if (t >= gapFrom - 1e-6 && t < gapTo - 1e-6)
+		{
+			++inside;
+			rejectedInside += row[8] == 3;
+		}
+		else
+			EXPECT_NE(row[8], 3) << "t=" << t;
+	}
+	EXPECT_GE(inside, 150u);
+	EXPECT_EQ(rejectedInside, inside);
+	// Back in the room the robot is where it should be (odometry is exact here).
+	EXPECT_LT(errorAt(a.traj, truth, truth.size() - 1), 0.05);
+
+	// A larger --max-untracked: exit 0, but the warning stays.
+	const auto b = mapLog(d, log, "lost-tolerated", "--max-untracked 60");
+	EXPECT_EQ(b.result.exitCode, 0) << b.result.output;
+	EXPECT_EQ(countLines(b.result.output, "tracking lost from t="), 1u) << b.result.output;
+	EXPECT_NE(b.result.output.find("tracking: ok"), std::string::npos) << b.result.output;
+}
+
+namespace
+{
+/** Fraction of the points along a wall (x0 + s·(x1−x0), …) with an occupied cell within 0.1 m in the map. */
+double wallMapped(const mrpt::maps::COccupancyGridMap2D& g, double x0, double y0, double x1, double y1)
+{
+	std::size_t hit = 0, n = 0;
+	for (double s = 0; s <= 1.0; s += 0.01, ++n)
+	{
+		const double x = x0 + s * (x1 - x0), y = y0 + s * (y1 - y0);
+		bool occ = false;
+		for (double dx = -0.1; dx <= 0.1 + 1e-9; dx += 0.05)
+			for (double dy = -0.1; dy <= 0.1 + 1e-9; dy += 0.05)
+			{
+				const int cx = g.x2idx(x + dx), cy = g.y2idx(y + dy);
+				if (cx >= 0 && cy >= 0 && cx < int(g.getSizeX()) && cy < int(g.getSizeY()) && g.getCell(cx, cy) < 0.3f)
+					occ = true;
+			}
+		hit += occ;
+	}
+	return double(hit) / double(n);
+}
+
+/** The L-shaped building's log: 0.05 m per scan, a turn on the spot in 10 scans, odometry 2 % long
+ * and turning 2°/m. */
+struct LLog
+{
+	LBuilding b;
+	std::vector<TPose2D> truth;
+	std::string write(const ScratchDir& d)
+	{
+		truth = b.path(0.05, 10);
+		const auto odo = driftingOdometry(truth, 1.02, 2.0 * M_PI / 180);
+		return d.write("l.clf", carmenLog(b.world(), truth, odo, CarmenLogSpec()));
+	}
+};
+}  // namespace
+
+// The overlap rule (minOverlapGoodness) is not shown to matter here: with
+// --set MappingApplication.minOverlapGoodness=0 this world passes too (no match is rejected), as did
+// every variant tried (a turn in 1 scan, 0.3 m per scan, a 5-8 m laser range, a 0.9 m door into a
+// 6 m wide corridor 2): each scan adds too little new ground for the goodness to fall below minGoodness.
+TEST(Robustness, TurnIntoAnUnmappedCorridorIsTrackedAndMapped)
+{
+	ScratchDir d("robust-l");
+	LLog l;
+	const auto log = l.write(d);
+	const auto a = mapLog(d, log, "l");
+	ASSERT_EQ(a.result.exitCode, 0) << a.result.output;
+	ASSERT_EQ(a.traj.size(), l.truth.size());
+	EXPECT_LT(errorAt(a.traj, l.truth, l.truth.size() - 1), 0.1);
+	EXPECT_LT(maxError(a.traj, l.truth), 0.15);
+	EXPECT_LE(longestRejectedRun(a), 5u);
+	EXPECT_EQ(a.result.output.find("tracking lost"), std::string::npos) << a.result.output;
+	// Corridor 2's walls (beyond what corridor 1 sees of them) are in the map.
+	mrpt::maps::COccupancyGridMap2D grid;
+	pmslam::loadGridMapGz((a.out / "map.gridmap.gz").string(), grid);
+	const double x2 = l.b.L1 - l.b.W2;
+	EXPECT_GT(wallMapped(grid, l.b.L1, 4.0, l.b.L1, l.b.L2 - 2), 0.9);
+	EXPECT_GT(wallMapped(grid, x2, 4.0, x2, l.b.L2 - 2), 0.9);
+	EXPECT_GT(wallMapped(grid, l.b.L1, l.b.L2, x2, l.b.L2), 0.9);  // its end wall
+}
+
+TEST(Robustness, HeadingSlipsKeepTheTrajectoryOnTheTruth)
+{
+	ScratchDir d("robust-slip");
+	LLog l;
+	const auto clean = l.write(d);
+	const std::string slipped = d.path("slip.clf");
+	const auto inj = run(quote(kInject) + " --fault slip --count 3 --seed 2 " + quote(clean) + " " + quote(slipped));
+	ASSERT_EQ(inj.exitCode, 0) << inj.output;
+	ASSERT_EQ(countLines(inj.output, "fault slip at"), 3u) << inj.output;
+
+	const auto c = mapLog(d, clean, "clean");
+	ASSERT_EQ(c.result.exitCode, 0) << c.result.output;
+	const double cleanErr = maxError(c.traj, l.truth);
+	const auto s = mapLog(d, slipped, "slip");
+	ASSERT_EQ(s.result.exitCode, 0) << s.result.output;
+	ASSERT_EQ(s.traj.size(), l.truth.size());
+	const double slipErr = maxError(s.traj, l.truth);
+	EXPECT_LT(slipErr, 2 * cleanErr + 0.02) << "clean " << cleanErr;
+	const auto o = mapLog(d, slipped, "slip-nowide", "--set MappingApplication.wideSearchBelowGoodness=0");
+	const double oldErr = o.traj.size() == l.truth.size() ? maxError(o.traj, l.truth) : 1e9;
+	std::cout << "max error: clean " << cleanErr << " m, 3 slips " << slipErr << " m, 3 slips without the wide search "
+			  << oldErr << " m\n";
+	// Not asserted: on this world PM alone converges from the slips' 18-30 degree, 0.3 m prediction
+	// errors (goodness ~0.97 after ~60 iterations), so the run without the wide search is just as good
+	// and the wide search never runs. A world that shows the difference is still to be found.
+	EXPECT_LT(oldErr, 2 * cleanErr + 0.02);
+}
