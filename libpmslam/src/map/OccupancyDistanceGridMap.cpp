@@ -255,21 +255,22 @@ std::size_t OccupancyDistanceGridMap::memoryBytes() const
 	return m_map.capacity() * sizeof(cellType) + m_stamp.capacity() * sizeof(m_stamp[0]) + m_distance.memoryBytes();
 }
 
-std::vector<mrpt::math::TPoint2Df> OccupancyDistanceGridMap::informativePoints(
-	const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose) const
+std::vector<std::size_t> OccupancyDistanceGridMap::informativePoints(const std::vector<mrpt::math::TPoint2Df>& points,
+																	 const mrpt::math::TPose2D& pose) const
 {
-	std::vector<mrpt::math::TPoint2Df> out;
+	std::vector<std::size_t> out;
 	out.reserve(points.size());
 	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
 	const float nearObstacle = static_cast<float>(2 * getResolution());
-	for (const auto& p : points)
+	for (std::size_t i = 0; i < points.size(); ++i)
 	{
+		const auto& p = points[i];
 		const double wx = pose.x + c * p.x - s * p.y, wy = pose.y + s * p.x + c * p.y;
 		if (!std::isfinite(wx) || !std::isfinite(wy)) continue;
 		if (isUnexplored(wx, wy) &&
 			m_distance.cellDistance(m_distance.worldToCell(wx), m_distance.worldToCell(wy)) > nearObstacle)
 			continue;
-		out.push_back(p);
+		out.push_back(i);
 	}
 	return out;
 }

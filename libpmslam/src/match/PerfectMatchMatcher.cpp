@@ -150,10 +150,12 @@ class CostFunction
 {
    public:
 	CostFunction(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& pts,
-				 const PerfectMatchMatcher::TConfigParams& o, const PerfectMatchMatcher::PosePrior* prior = nullptr)
+				 const PerfectMatchMatcher::TConfigParams& o, const PerfectMatchMatcher::PosePrior* prior = nullptr,
+				 const std::vector<mrpt::math::TPoint2Df>* normals = nullptr)
 		: m_map(map), m_pts(pts), m_step(std::max(1u, o.decimation)), m_s2(o.sigma * o.sigma),
 		  m_invS2(1.0 / (o.sigma * o.sigma)), m_sigma(o.sigma),
-		  m_kernel(o.robustKernel), m_far(map.maxDistance() * (1.0 - 1e-6)), m_prior(prior)
+		  m_kernel(o.robustKernel), m_far(map.maxDistance() * (1.0 - 1e-6)), m_prior(prior),
+		  m_normals(normals && normals->size() == pts.size() ? normals->data() : nullptr)
 	{
 	}
 
@@ -177,6 +179,7 @@ class CostFunction
 			const double rx = c * px - s * py, ry = s * px + c * py;  // rotated point
 			double gx, gy;
 			const double d = m_map.distanceAt(x[0] + rx, x[1] + ry, &gx, &gy);
+			if (m_normals) project(m_normals[i], c, s, gx, gy);
 			const double ratio = 1.0 + d * d * m_invS2;	 // (σ² + Δ²) / σ²
 			// dΔ/d(x, y, θ): the map gradient chained through the endpoint's pose Jacobian;
 			// d ln(σ²+Δ²) / dΔ = 2Δ / (σ²+Δ²).
@@ -251,6 +254,7 @@ class CostFunction
 		const int baseI = static_cast<int>(bu), baseJ = static_cast<int>(bv);
 		const float fu = static_cast<float>(u0 - bu), fv = static_cast<float>(v0 - bv);
 		const float cs = static_cast<float>(std::cos(x[2]) * inv), sn = static_cast<float>(std::sin(x[2]) * inv);
+		const float c0 = static_cast<float>(std::cos(x[2])), s0 = static_cast<float>(std::sin(x[2]));
 		const float invS2 = static_cast<float>(m_invS2);
 		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
 		{
@@ -264,6 +268,7 @@ class CostFunction
 				iu -= u < static_cast<float>(iu);  // floor
 				iv -= v < static_cast<float>(iv);
 				d = m_map.sampleBilinear(baseI + iu, baseJ + iv, u - iu, v - iv, dU, dV);
+				if (m_normals) project(m_normals[i], c0, s0, dU, dV);
 			}
 			else
 				d = far;
@@ -305,6 +310,18 @@ class CostFunction
 	}
 
    private:
+	// The map gradient (gx, gy) reduced to its component along the point's surface normal n
+	// (robot frame, rotated by the pose's c, s); no normal, no change.
+	template <typename T>
+	static void project(const mrpt::math::TPoint2Df& n, T c, T s, T& gx, T& gy)
+	{
+		if (n.x == 0 && n.y == 0) return;
+		const T nx = c * n.x - s * n.y, ny = s * n.x + c * n.y;
+		const T along = gx * nx + gy * ny;
+		gx = along * nx;
+		gy = along * ny;
+	}
+
 	const DynamicDistanceMap& m_map;
 	const std::vector<mrpt::math::TPoint2Df>& m_pts;
 	const std::size_t m_step;
@@ -312,6 +329,7 @@ class CostFunction
 	const PerfectMatchMatcher::RobustKernel m_kernel;
 	const double m_far;
 	const PerfectMatchMatcher::PosePrior* m_prior;
+	const mrpt::math::TPoint2Df* m_normals;
 };
 
 
@@ -329,11 +347,13 @@ PerfectMatchMatcher::PosePrior PerfectMatchMatcher::PosePrior::diagonal(const mr
 
 PerfectMatchMatcher::MatchInfo PerfectMatchMatcher::evaluate(const DynamicDistanceMap& map,
 															   const std::vector<mrpt::math::TPoint2Df>& points,
-															   const mrpt::math::TPose2D& pose) const
+															   const mrpt::math::TPose2D& pose,
+															   const std::vector<mrpt::math::TPoint2Df>* normals) const
 {
 	TConfigParams o = options;
 	o.decimation = 1;
-	const Evaluation e = CostFunction(map, points, o)(Eigen::Vector3d(pose.x, pose.y, pose.phi), CostFunction::kCurvature);
+	const Evaluation e =
+		CostFunction(map, points, o, nullptr, normals)(Eigen::Vector3d(pose.x, pose.y, pose.phi), CostFunction::kCurvature);
 	MatchInfo info;
 	info.nPoints = e.n;
 	info.finalCost = e.n ? e.cost / e.n : 0.0;

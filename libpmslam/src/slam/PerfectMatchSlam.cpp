@@ -9,8 +9,10 @@
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <pmslam/match/CorrelativeSearch.h>
+#include <pmslam/sensor/SurfaceNormals.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
@@ -44,6 +46,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	minPoints = static_cast<unsigned>(c.read_int(s, "minPoints", static_cast<int>(minPoints)));
 	minOverlapGoodness = c.read_double(s, "minOverlapGoodness", minOverlapGoodness);
 	ignoreUnexploredPoints = c.read_bool(s, "ignoreUnexploredPoints", ignoreUnexploredPoints);
+	degenerateBelow = c.read_double(s, "degenerateBelow", degenerateBelow);
 	wideSearchBelowGoodness = c.read_double(s, "wideSearchBelowGoodness", wideSearchBelowGoodness);
 	wideSearchLinear = c.read_double(s, "wideSearchLinear", wideSearchLinear);
 	wideSearchAngular = mrpt::DEG2RAD(c.read_double(s, "wideSearchAngular_deg", mrpt::RAD2DEG(wideSearchAngular)));
@@ -80,6 +83,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(relocalizeTurnRate >= 0 && relocalizeTurnRate <= 2 * M_PI, "relocalizeTurnRate_deg: expected 0..360 deg/s");
 	need(relocalizeMaxLinear >= 0 && relocalizeMaxLinear <= 20, "relocalizeMaxLinear: expected 0..20 m");
 	need(matchAtLeastEvery >= 0, "matchAtLeastEvery: expected >= 0 s (0 = off)");
+	need(degenerateBelow >= 0 && degenerateBelow < 1, "degenerateBelow: expected 0..1 (0 = off)");
 	need(mapInsertLinDistance >= 0 && mapInsertAngDistance >= 0, "mapInsertLinDistance, mapInsertAngDistance_deg: expected >= 0");
 	need((mapInsertLinDistance > 0) == (mapInsertAngDistance > 0),
 		 "mapInsertLinDistance and mapInsertAngDistance_deg: set both (> 0) or neither (0)");
@@ -112,7 +116,7 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nmapInsertAngDistance_deg = " << mrpt::RAD2DEG(mapInsertAngDistance)
 		<< "\nmapInsertBelowInliers = " << mapInsertBelowInliers
 		<< "\nminPoints = " << minPoints << "\nminOverlapGoodness = " << minOverlapGoodness
-		<< "\nignoreUnexploredPoints = " << ignoreUnexploredPoints
+		<< "\nignoreUnexploredPoints = " << ignoreUnexploredPoints << "\ndegenerateBelow = " << degenerateBelow
 		<< "\nwideSearchBelowGoodness = " << wideSearchBelowGoodness << "\nwideSearchLinear = " << wideSearchLinear
 		<< "\nwideSearchAngular_deg = " << mrpt::RAD2DEG(wideSearchAngular)
 		<< "\nrelocalizeAfterGap = " << relocalizeAfterGap << "\nrelocalizeAfterJump = " << relocalizeAfterJump
@@ -300,6 +304,28 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			if (acceptable(r.info))
 			{
 				r.pose = est;
+				if (PM_options.degenerateBelow > 0)
+				{
+					// Which directions the scan fixes: the curvature with every point pulling only
+					// across its surface (dots and wall ends do not count as constraints).
+					const auto normals = surfaceNormals(pts.hits);
+					const Eigen::Matrix3d H = m_matcher.evaluate(m_grid->distanceMap(), pts.hits, est, &normals).hessian;
+					if (const auto weak = weakDirection(H))
+					{
+						// Match again with the position along the weak direction held at the prediction
+						// (a stiff prior there and nowhere else): across it and in heading the scan decides.
+						PerfectMatchMatcher::PosePrior pin;
+						pin.mean = r.predicted;
+						pin.information.topLeftCorner<2, 2>() = 1e6 * (*weak) * weak->transpose();
+						const Eigen::Vector2d off(est.x - r.predicted.x, est.y - r.predicted.y);
+						const Eigen::Vector2d start = Eigen::Vector2d(est.x, est.y) - weak->dot(off) * (*weak);
+						PerfectMatchMatcher::MatchInfo pinnedInfo;
+						r.pose = m_matcher.alignPoints(m_grid->distanceMap(), pts.hits,
+													   mrpt::math::TPose2D(start[0], start[1], est.phi), &pinnedInfo,
+													   nullptr, &pin);
+						r.degenerate = true;
+					}
+				}
 				r.matched = true;
 				++m_matched;
 			}
@@ -363,6 +389,18 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	return m_last;
 }
 
+std::optional<Eigen::Vector2d> PerfectMatchSlam::weakDirection(const Eigen::Matrix3d& hessian) const
+{
+	// The information on the position at the matched heading: a plain corridor fixes the heading
+	// and the position across it, not along it.
+	if (!hessian.allFinite()) return std::nullopt;
+	const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(hessian.topLeftCorner<2, 2>());
+	if (eig.info() != Eigen::Success) return std::nullopt;
+	const Eigen::Vector2d lambda = eig.eigenvalues();  // ascending
+	if (!(lambda[1] > 0) || lambda[0] >= PM_options.degenerateBelow * lambda[1]) return std::nullopt;
+	return Eigen::Vector2d(eig.eigenvectors().col(0));
+}
+
 bool PerfectMatchSlam::acceptable(const PerfectMatchMatcher::MatchInfo& info) const
 {
 	if (info.goodness >= PM_options.minGoodness) return true;
@@ -381,7 +419,8 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 	// optimisation (see informativePoints); goodness and inliers are of the whole scan.
 	auto align = [&](const mrpt::math::TPose2D& start, PerfectMatchMatcher::MatchInfo& info) {
 		if (!PM_options.ignoreUnexploredPoints) return m_matcher.alignPoints(dm, hits, start, &info, nullptr, prior);
-		std::vector<mrpt::math::TPoint2Df> used = m_grid->informativePoints(hits, start);
+		std::vector<mrpt::math::TPoint2Df> used;
+		for (std::size_t i : m_grid->informativePoints(hits, start)) used.push_back(hits[i]);
 		if (used.size() < PM_options.minPoints) used = hits;
 		PerfectMatchMatcher::MatchInfo own;
 		const mrpt::math::TPose2D p = m_matcher.alignPoints(dm, used, start, &own, nullptr, prior);

@@ -56,6 +56,7 @@ const Key kKeys[] = {
 	{"MappingApplication", "minPoints", Type::Integer},
 	{"MappingApplication", "minOverlapGoodness", Type::Number},
 	{"MappingApplication", "ignoreUnexploredPoints", Type::Bool},
+	{"MappingApplication", "degenerateBelow", Type::Number},
 	{"MappingApplication", "wideSearchBelowGoodness", Type::Number},
 	{"MappingApplication", "wideSearchLinear", Type::Number},
 	{"MappingApplication", "wideSearchAngular_deg", Type::Number},

@@ -93,8 +93,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	 * land in unexplored space more than two cells from any obstacle. Beyond the end of a mapped
 	 * wall the distance map still pulls a point back towards the wall's end; along a corridor
 	 * that pull is the only "information" the scan has, and it slides the robot backwards. */
-	std::vector<mrpt::math::TPoint2Df> informativePoints(const std::vector<mrpt::math::TPoint2Df>& points,
-														 const mrpt::math::TPose2D& pose) const;
+	std::vector<std::size_t> informativePoints(const std::vector<mrpt::math::TPoint2Df>& points,
+											   const mrpt::math::TPose2D& pose) const;  // indices into points
 
 	/** Bytes held by the grid, the distance layer and the scratch buffers. */
 	std::size_t memoryBytes() const;

@@ -117,9 +117,12 @@ class PerfectMatchMatcher
 									const mrpt::math::TPose2D& initial, MatchInfo* info = nullptr,
 									Eigen::Matrix3d* covariance = nullptr, const PosePrior* prior = nullptr) const;
 
-	/** What alignPoints() reports, for `points` at `pose` as it is (no optimisation). */
+	/** What alignPoints() reports, for `points` at `pose` as it is (no optimisation). With `normals`
+	 * (one per point, robot frame, (0, 0) = none; see SurfaceNormals.h) a point's gradient counts
+	 * only along its normal in the curvature: a plain corridor then shows that it does not fix the
+	 * pose along its length, where dots and wall ends in the map would otherwise seem to. */
 	MatchInfo evaluate(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
-					   const mrpt::math::TPose2D& pose) const;
+					   const mrpt::math::TPose2D& pose, const std::vector<mrpt::math::TPoint2Df>* normals = nullptr) const;
 
 	/** The PM cost Σ ln(1+Δ²/σ²) of `points` at `pose` (for tests and diagnostics). */
 	double cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,

@@ -108,6 +108,12 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * they pull the robot back towards the known part, which along a plain corridor is the only
 	 * pull there is, and the trajectory comes up short. */
 	bool ignoreUnexploredPoints = false;
+	/** Degenerate directions: where the match's information on the position (heading fitted too;
+	 * each point pulling only across its surface, SurfaceNormals.h) is below degenerateBelow times
+	 * its largest eigenvalue, the scan does not fix the position along that direction (a plain
+	 * corridor, along it) and the prediction is kept there; across it and in heading the match
+	 * decides (0 = off). */
+	double degenerateBelow = 0.0;
 	/** Wide basin: when the match from the prediction scores below wideSearchBelowGoodness (0 = never),
 	 * a correlative search within ±wideSearchLinear (m) and ±wideSearchAngular (rad) of the prediction
 	 * proposes other starting poses, each refined by PM; the best wins. Clean matches score 0.8–0.98,
@@ -157,6 +163,7 @@ class PerfectMatchSlam
 		bool wideSearch = false;  ///< the wide search ran for this scan
 		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
 		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
+		bool degenerate = false;  ///< the scan left a direction unconstrained: the prediction was kept along it
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
 		std::size_t cellsFlipped = 0;
 		PerfectMatchMatcher::MatchInfo info;
@@ -274,6 +281,8 @@ class PerfectMatchSlam
 								  const PerfectMatchMatcher::PosePrior* prior, double linWindow, double angWindow,
 								  ScanResult& r);
 	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
+	/** The direction (unit, map frame) along which `hessian` leaves the position unconstrained, if any. */
+	std::optional<Eigen::Vector2d> weakDirection(const Eigen::Matrix3d& hessian) const;
 	ScanResult m_last;
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
 };

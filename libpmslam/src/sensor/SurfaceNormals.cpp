@@ -1,0 +1,50 @@
+/* pmslam — surface normals of scan points (see SurfaceNormals.h). */
+#include <pmslam/sensor/SurfaceNormals.h>
+
+#include <cmath>
+
+namespace pmslam
+{
+std::vector<mrpt::math::TPoint2Df> surfaceNormals(const std::vector<mrpt::math::TPoint2Df>& pts)
+{
+	constexpr float kSpan = 0.3f;  // m each side: a shorter piece of wall gives a normal of range noise
+	constexpr int kMaxSteps = 40;  // neighbours looked at each side
+	constexpr float kMaxGap = 5.0f;  // m to the next return: beyond, no surface between them
+	std::vector<mrpt::math::TPoint2Df> n(pts.size(), mrpt::math::TPoint2Df(0, 0));
+	const int count = static_cast<int>(pts.size());
+	auto dist = [&](int a, int b) { return std::hypot(pts[a].x - pts[b].x, pts[a].y - pts[b].y); };
+	for (int i = 0; i < count; ++i)
+	{
+		// The neighbours within kSpan each side, and at least the next one each side however far
+		// (far returns on a wall seen at a grazing angle are metres apart: the fit decides).
+		int a = i - 1, b = i + 1;
+		if (a < 0 || b >= count || dist(a, i) > kMaxGap || dist(b, i) > kMaxGap) continue;
+		while (a > 0 && i - a < kMaxSteps && dist(a - 1, i) <= kSpan) --a;
+		while (b + 1 < count && b - i < kMaxSteps && dist(b + 1, i) <= kSpan) ++b;
+		// Line fit (principal axis) of the window's points; its scatter across the line must be
+		// range noise, not a corner or clutter.
+		double mx = 0, my = 0;
+		const int m = b - a + 1;
+		for (int k = a; k <= b; ++k) mx += pts[k].x, my += pts[k].y;
+		mx /= m;
+		my /= m;
+		double sxx = 0, sxy = 0, syy = 0;
+		for (int k = a; k <= b; ++k)
+		{
+			const double dx = pts[k].x - mx, dy = pts[k].y - my;
+			sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
+		}
+		const double tr = sxx + syy, det = sxx * syy - sxy * sxy;
+		const double small = 0.5 * tr - std::sqrt(std::max(0.0, 0.25 * tr * tr - det));  // smaller eigenvalue
+		const double tol = 0.01 + 0.005 * std::hypot(pts[i].x, pts[i].y);
+		if (!(tr > 0) || small / m > tol * tol) continue;
+		// Normal: the eigenvector of the smaller eigenvalue.
+		double nx = sxy, ny = small - sxx;
+		if (std::hypot(nx, ny) < 1e-12) nx = sxx <= syy ? 1 : 0, ny = sxx <= syy ? 0 : 1;
+		const double len = std::hypot(nx, ny);
+		n[i] = mrpt::math::TPoint2Df(static_cast<float>(nx / len), static_cast<float>(ny / len));
+	}
+	return n;
+}
+
+}  // namespace pmslam
