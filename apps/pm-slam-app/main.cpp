@@ -23,6 +23,7 @@
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <numeric>
@@ -432,19 +433,29 @@ int main(int argc, char** argv)
 			std::printf("  map: %s/map.png (and map.pgm/.yaml, map.gridmap.gz, map.simplemap.gz), trajectory: %s/trajectory.txt\n",
 						args.out.c_str(), args.out.c_str());
 	}
-	if (window)
-	{
-		window->show(pmslam::renderMap(slam.grid(), traj));
-		std::cout << "Close the window or press a key in it to exit.\n";
-		window->waitForKey();  // returns at once when the window is closed
-	}
-	if (failed) return 1;
-	if (g_stop) return 130;
-	if (trackingLost)
+	int status = 0;
+	if (failed) status = 1;
+	else if (g_stop) status = 130;
+	else if (trackingLost)
 	{
 		std::fprintf(stderr, "pm-slam-app: tracking was lost for %.1f s of log (more than --max-untracked %.1f s): exit status 3\n",
 					 longestUntracked, args.maxUntracked);
-		return 3;
+		status = 3;
 	}
-	return 0;
+	// Everything said so far must survive whatever the GUI toolkit does at exit.
+	std::fflush(stdout);
+	std::fflush(stderr);
+	if (window)
+	{
+		window->show(pmslam::renderMap(slam.grid(), traj));
+		std::cout << "Close the window or press a key in it to exit." << std::endl;
+		window->waitForKey();  // returns at once when the window is closed
+		window.reset();
+		// MRPT runs wxWidgets in a detached thread that may still be tearing GTK down when this
+		// process's static destructors run (a SIGSEGV at exit now and then): every output is
+		// written and flushed, so leave without them.
+		std::fflush(nullptr);
+		std::_Exit(status);
+	}
+	return status;
 }
