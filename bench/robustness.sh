@@ -49,6 +49,9 @@ note "building Release in $build"
 cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target pm-slam-app pm-fault-inject pm-icp-slam pm-slam-eval >/dev/null
 rm -rf "$work"; mkdir -p "$work" "$results"
+# The configuration as it is now: edits made while the benchmark runs do not mix into it.
+config="$work/default.ini"
+cp "$repo/config/default.ini" "$config"
 
 json_num() { tr ',{}' '\n\n\n' <"$2" | awk -F: -v k="\"$1\"" '{gsub(/ /,"",$1)} $1==k {gsub(/ /,"",$2); print $2; exit}'; }
 # stats TIMING COLUMN: mean ms per scan; matched fraction (pmslam: accepted / attempted matches)
@@ -63,7 +66,7 @@ run() {
   local sys=$1 log=$2 out=$3 d=$4 rc=0
   mkdir -p "$out"
   if [ "$sys" = pmslam ]; then
-    "$bin/pm-slam-app" --config "$repo/config/default.ini" --no-progress --max-untracked 1e9 "$log" --out "$out" \
+    "$bin/pm-slam-app" --config "$config" --no-progress --max-untracked 1e9 "$log" --out "$out" \
       >"$out/stdout.txt" 2>"$out/stderr.txt" || rc=$?
   else
     "$bin/pm-icp-slam" --config "$repo/config/icp-slam-tuned.ini" "$log" --out "$out" >"$out/stdout.txt" 2>"$out/stderr.txt" || rc=$?

@@ -169,7 +169,7 @@ struct ScanTiming
 	bool matched, inserted;
 	unsigned iterations;
 	double goodness;
-	int tracking;  // 0 matched, 1 not matched (below the insertion thresholds), 2 matched after a wide search moved it, 3 rejected
+	int tracking;  // 0 matched, 1 not matched (below the insertion thresholds), 2 matched after a wide search moved it, 3 rejected, 4 new ground
 	bool wideSearch;
 };
 
@@ -183,7 +183,8 @@ void writeOutputs(const std::string& dir, const pmslam::PerfectMatchSlam& slam, 
 		out << "# " << header
 			<< "\n# timestamp match_ms update_ms total_ms matched inserted iterations goodness tracking wide_search"
 			   "\n# tracking: 0 matched, 1 odometry only (moved less than the insertion thresholds), 2 matched after"
-			   " the wide search moved it (re-localised), 3 match rejected (odometry only)\n";
+			   " the wide search moved it (re-localised), 3 match rejected (odometry only), 4 lost on new ground:"
+			   " inserted at the odometry pose\n";
 		char line[200];
 		for (const auto& t : timing)
 		{
@@ -324,7 +325,17 @@ int main(int argc, char** argv)
 			const auto& r = slam.processScan(*ev.scan, odo);
 			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
 			applySmoothedPoses(false);
-			const int tracking = r.rejected ? 3 : r.relocalized ? 2 : r.matched ? 0 : 1;
+			const int tracking = r.reanchored ? 4 : r.rejected ? 3 : r.relocalized ? 2 : r.matched ? 0 : 1;
+			if (r.reanchored && (timing.empty() || timing.back().tracking != 4))
+			{
+				progress.clear();
+				const auto& gaps = slam.trackingGaps();
+				std::fprintf(stderr,
+							 "pm-slam-app: warning: at t=%.3f, after %.1f s without an accepted match, the scans see new "
+							 "ground only: inserted at the odometry pose from here, so the map grows on, but its alignment "
+							 "with what was mapped before is not verified\n",
+							 ev.timestamp, gaps.empty() ? 0.0 : ev.timestamp - gaps.back().from);
+			}
 			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.matched, r.inserted, r.info.nIterations,
 							  r.info.goodness, tracking, r.wideSearch});
 			progress.update(traj.size());
@@ -411,10 +422,10 @@ int main(int argc, char** argv)
 		std::printf("pm-slam-app: %s\n", args.log.c_str());
 		std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
 					traj.size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
-		std::printf("  tracking: %s; %zu matches rejected, %zu wide searches, %zu re-localisations, longest span without "
-					"an accepted match %.1f s (%zu over 3 s)\n",
+		std::printf("  tracking: %s; %zu matches rejected, %zu wide searches, %zu re-localisations, %zu scans inserted "
+					"at the odometry pose on new ground, longest span without an accepted match %.1f s (%zu over 3 s)\n",
 					trackingLost ? "LOST (exit status 3)" : "ok", slam.scansRejected(), slam.wideSearches(),
-					slam.relocalizations(), longestUntracked, untrackedSpans);
+					slam.relocalizations(), slam.reanchorings(), longestUntracked, untrackedSpans);
 		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
 					total.empty() ? 0.0 : sumMs / total.size(), pmslam::percentile(total, 0.5), pmslam::percentile(total, 0.99));
 		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx\n", sumMs / 1000.0, wallS,

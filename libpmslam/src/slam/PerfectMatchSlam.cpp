@@ -26,7 +26,10 @@ namespace pmslam
 {
 namespace
 {
-constexpr double kMaxOdometryStep = 10.0;  // m between two consecutive scans
+// An odometry step between two scans longer than this, and than kMaxSpeed times the time between
+// them, is a glitch (a reset, a corrupt reading), not motion.
+constexpr double kMaxOdometryStep = 10.0;  // m
+constexpr double kMaxSpeed = 3.0;  // m/s
 // odometryToScanTime: two readings closer in time than this are a burst (no usable velocity),
 // farther apart than kMaxOdometryGap a pause; a scan this far beyond the newest reading is
 // extrapolated no further than kMaxOdometryGap.
@@ -56,6 +59,9 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	relocalizeTurnRate =
 		mrpt::DEG2RAD(c.read_double(s, "relocalizeTurnRate_deg", mrpt::RAD2DEG(relocalizeTurnRate)));
 	relocalizeMaxLinear = c.read_double(s, "relocalizeMaxLinear", relocalizeMaxLinear);
+	relocalizeOdometryError = c.read_double(s, "relocalizeOdometryError", relocalizeOdometryError);
+	newGroundBelow = c.read_double(s, "newGroundBelow", newGroundBelow);
+	newGroundAfter = c.read_double(s, "newGroundAfter", newGroundAfter);
 	matchAtLeastEvery = c.read_double(s, "matchAtLeastEvery", matchAtLeastEvery);
 	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
 	odometryPriorSigmaPhi =
@@ -82,6 +88,9 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(relocalizeSpeed >= 0 && relocalizeSpeed <= 10, "relocalizeSpeed: expected 0..10 m/s");
 	need(relocalizeTurnRate >= 0 && relocalizeTurnRate <= 2 * M_PI, "relocalizeTurnRate_deg: expected 0..360 deg/s");
 	need(relocalizeMaxLinear >= 0 && relocalizeMaxLinear <= 20, "relocalizeMaxLinear: expected 0..20 m");
+	need(relocalizeOdometryError >= 0 && relocalizeOdometryError <= 1, "relocalizeOdometryError: expected 0..1");
+	need(newGroundBelow >= 0 && newGroundBelow <= 1, "newGroundBelow: expected 0..1 (0 = off)");
+	need(newGroundAfter >= 0, "newGroundAfter: expected >= 0 s");
 	need(matchAtLeastEvery >= 0, "matchAtLeastEvery: expected >= 0 s (0 = off)");
 	need(degenerateBelow >= 0 && degenerateBelow < 1, "degenerateBelow: expected 0..1 (0 = off)");
 	need(mapInsertLinDistance >= 0 && mapInsertAngDistance >= 0, "mapInsertLinDistance, mapInsertAngDistance_deg: expected >= 0");
@@ -122,7 +131,8 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nrelocalizeAfterGap = " << relocalizeAfterGap << "\nrelocalizeAfterJump = " << relocalizeAfterJump
 		<< "\nrelocalizeSpeed = " << relocalizeSpeed
 		<< "\nrelocalizeTurnRate_deg = " << mrpt::RAD2DEG(relocalizeTurnRate)
-		<< "\nrelocalizeMaxLinear = " << relocalizeMaxLinear << "\nmatchAtLeastEvery = " << matchAtLeastEvery
+		<< "\nrelocalizeMaxLinear = " << relocalizeMaxLinear << "\nrelocalizeOdometryError = " << relocalizeOdometryError
+		<< "\nnewGroundBelow = " << newGroundBelow << "\nnewGroundAfter = " << newGroundAfter << "\nmatchAtLeastEvery = " << matchAtLeastEvery
 		<< "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
 		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi)
 		<< "\nodometryToScanTime = " << odometryToScanTime << "\nscanLatency = " << scanLatency
@@ -164,7 +174,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	}
 	m_mapEmpty = true;
 	m_scans = m_matched = m_inserted = m_rejected = 0;
-	m_wideSearches = m_relocalizations = 0;
+	m_wideSearches = m_relocalizations = m_reanchored = 0;
 	m_gaps.clear();
 	m_lastScanTime = m_lastAcceptedTime = m_lastMatchTime = std::nan("");
 	m_lost = false;
@@ -239,14 +249,19 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		if (const auto o = odometryAtTime(mrpt::Clock::toDouble(scan.timestamp) - PM_options.scanLatency))
 			odomAtScanTime = o;
 	r.predicted = m_pose;
-	double odometryStep = 0;  // m between this scan's odometry and the previous scan's
+	const double now = scan.timestamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(scan.timestamp) : std::nan("");
+	const double sincePrevious = now - m_lastScanTime;	// NaN when unknown
+	double odometryStep = 0, odometryTurn = 0;	// m, rad between this scan's odometry and the previous scan's
 	if (odomNow && m_odometryAtLastScan)
 	{
 		const mrpt::poses::CPose2D delta = mrpt::poses::CPose2D(*odomNow) - mrpt::poses::CPose2D(*m_odometryAtLastScan);
 		odometryStep = std::hypot(delta.x(), delta.y());
-		// No robot moves 10 m between two scans: such a jump is an odometry glitch (a reset,
-		// a corrupt reading), and following it would throw the robot (and the grid) away.
-		if (std::hypot(delta.x(), delta.y()) < kMaxOdometryStep)
+		odometryTurn = delta.phi();
+		// No robot moves 10 m between two scans, nor faster than kMaxSpeed across a logging gap:
+		// such a jump is an odometry glitch, and following it would throw the robot (and the grid) away.
+		const double plausible =
+			std::max(kMaxOdometryStep, std::isfinite(sincePrevious) ? kMaxSpeed * sincePrevious : 0.0);
+		if (odometryStep < plausible)
 			r.predicted = (mrpt::poses::CPose2D(m_pose) + delta).asTPose();
 		else
 		{
@@ -262,7 +277,6 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 
 	const double lin = std::hypot(r.predicted.x - m_lastInsertPose.x, r.predicted.y - m_lastInsertPose.y);
 	const double ang = std::abs(mrpt::math::wrapToPi(r.predicted.phi - m_lastInsertPose.phi));
-	const double now = scan.timestamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(scan.timestamp) : std::nan("");
 	// Without any odometry the prediction never moves, so every scan is matched. Odometry that
 	// says "standing still" is checked every matchAtLeastEvery seconds all the same: a robot
 	// carried or pushed with its wheels locked moves without odometry knowing.
@@ -273,18 +287,26 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	// Where the prediction cannot be trusted, the match searches a wider window: after a time gap
 	// or an odometry jump, and while lost (the last match was rejected). The window grows with the
 	// time since the last accepted match, as far as the robot may have gone.
-	const double sincePrevious = now - m_lastScanTime;	// NaN when unknown
 	const bool gap = sincePrevious > PM_options.relocalizeAfterGap;
 	const bool jump = odometryStep > PM_options.relocalizeAfterJump;
 	double linWindow = PM_options.wideSearchLinear, angWindow = PM_options.wideSearchAngular;
-	if (m_lost || gap || jump)
+	if (m_lost)
 	{
-		double since = std::isfinite(now - m_lastAcceptedTime) ? now - m_lastAcceptedTime : 0.0;
-		if (gap) since = std::max(since, sincePrevious);
-		linWindow = std::min(PM_options.relocalizeMaxLinear,
-							 linWindow + PM_options.relocalizeSpeed * since + (jump ? 0.5 * odometryStep : 0.0));
-		angWindow = std::min(M_PI, angWindow + PM_options.relocalizeTurnRate * since);
+		// Matches rejected: the odometry may be what is wrong (a robot carried, a wheel slipping),
+		// so the window grows with the time since the last accepted match.
+		const double since = std::isfinite(now - m_lastAcceptedTime) ? now - m_lastAcceptedTime : 0.0;
+		linWindow += PM_options.relocalizeSpeed * since;
+		angWindow += PM_options.relocalizeTurnRate * since;
 	}
+	if (gap || jump)
+	{
+		// A long step between two scans (no scan logged meanwhile): the prediction is as good as
+		// the odometry over that step, off by a fraction of the distance and of the turn.
+		linWindow += PM_options.relocalizeOdometryError * odometryStep;
+		angWindow += PM_options.relocalizeOdometryError * std::abs(odometryTurn);
+	}
+	linWindow = std::min(linWindow, PM_options.relocalizeMaxLinear);
+	angWindow = std::min(angWindow, M_PI);
 	if (std::isfinite(now)) m_lastScanTime = now;
 
 	if (m_mapEmpty || moved || !mapUpdating())
@@ -333,11 +355,23 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			{
 				r.rejected = true;
 				++m_rejected;
+				// Lost for a while and the scan barely overlaps the map at the prediction: the robot is
+				// on new ground (after a gap it drove somewhere never mapped). Nothing can be matched,
+				// so the scan goes in at the odometry pose and the map grows from there on; where it
+				// does overlap the map, the scan keeps being rejected instead of corrupting it.
+				const double lostFor = m_gaps.empty() || !m_gaps.back().open ? 0.0 : now - m_gaps.back().from;
+				if (PM_options.newGroundBelow > 0 && lostFor >= PM_options.newGroundAfter &&
+					m_matcher.evaluate(m_grid->distanceMap(), pts.hits, r.predicted).inlierFraction <
+						PM_options.newGroundBelow)
+				{
+					r.reanchored = true;
+					++m_reanchored;
+				}
 			}
 		}
 		// A rejected match is not inserted either: its pose is only the odometry guess,
 		// and a scan at a wrong pose would corrupt the map for every later match.
-		const bool rejected = !m_mapEmpty && !r.matched;
+		const bool rejected = !m_mapEmpty && !r.matched && !r.reanchored;
 		bool insert = mapUpdating() && (m_mapEmpty || moved) && !pts.hits.empty() && !rejected;
 		// Keyframe-like insertion: a scan the map already explains is matched but not inserted,
 		// so the map is not redrawn (and blurred) at every slightly drifted pose.

@@ -121,15 +121,24 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	double wideSearchBelowGoodness = 0.7;
 	double wideSearchLinear = 0.5;
 	double wideSearchAngular = mrpt::DEG2RAD(30.0);
-	/** Re-localisation: after a time gap longer than relocalizeAfterGap (s), an odometry step longer
-	 * than relocalizeAfterJump (m), or a rejected match, the next match searches a window that grows
-	 * with the time since the last accepted match (relocalizeSpeed m/s, relocalizeTurnRate rad/s) up
-	 * to ±relocalizeMaxLinear (m) and ±180°, against the map built so far. */
+	/** Re-localisation windows, up to ±relocalizeMaxLinear (m) and ±180°. While matches are rejected
+	 * (the odometry itself may be wrong: a robot carried, wheels slipping) the window grows with the
+	 * time since the last accepted match, by relocalizeSpeed (m/s) and relocalizeTurnRate (rad/s).
+	 * After a step between two scans longer than relocalizeAfterGap (s) or relocalizeAfterJump (m)
+	 * (scans missing, nothing logged) it grows by relocalizeOdometryError times the odometry's
+	 * distance and turn over that step. */
 	double relocalizeAfterGap = 2.0;
 	double relocalizeAfterJump = 1.0;
 	double relocalizeSpeed = 0.5;
 	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);
+	double relocalizeOdometryError = 0.1;
 	double relocalizeMaxLinear = 4.0;
+	/** New ground while lost: once no match was accepted for newGroundAfter (s) and fewer than
+	 * newGroundBelow of a scan's points lie within the map's reach at the prediction, the robot is
+	 * somewhere never mapped (after a logging gap, say): the scan is inserted at the odometry pose
+	 * so that the map grows again and later scans match it (0 = never). */
+	double newGroundBelow = 0.2;
+	double newGroundAfter = 2.0;
 	/** Match a scan at least this often (s of log) even when odometry says the robot stands still
 	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
 	 * wheels moves without its odometry knowing. */
@@ -164,6 +173,7 @@ class PerfectMatchSlam
 		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
 		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
 		bool degenerate = false;  ///< the scan left a direction unconstrained: the prediction was kept along it
+		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundBelow)
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
 		std::size_t cellsFlipped = 0;
 		PerfectMatchMatcher::MatchInfo info;
@@ -230,6 +240,7 @@ class PerfectMatchSlam
 	std::size_t scansRejected() const { return m_rejected; }
 	std::size_t wideSearches() const { return m_wideSearches; }
 	std::size_t relocalizations() const { return m_relocalizations; }
+	std::size_t reanchorings() const { return m_reanchored; }
 
 	/** A stretch of the log where no match was accepted: from the first rejected scan to the next
 	 * accepted one (or the last scan), in scan timestamps (s). Every pose in it is odometry only. */
@@ -272,7 +283,7 @@ class PerfectMatchSlam
 	std::optional<OdometrySmoother> m_smoother;
 	bool m_mapEmpty = true;
 	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0;
-	std::size_t m_wideSearches = 0, m_relocalizations = 0;
+	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0;
 	std::vector<TrackingGap> m_gaps;
 	double m_lastScanTime = std::nan(""), m_lastAcceptedTime = std::nan(""), m_lastMatchTime = std::nan("");
 	bool m_lost = false;  // the last match was rejected
