@@ -280,9 +280,12 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	// Without any odometry the prediction never moves, so every scan is matched. Odometry that
 	// says "standing still" is checked every matchAtLeastEvery seconds all the same: a robot
 	// carried or pushed with its wheels locked moves without odometry knowing.
-	const bool moved = !odomNow || lin >= PM_options.insertionLinDistance ||
-					   ang >= PM_options.insertionAngDistance ||
-					   (PM_options.matchAtLeastEvery > 0 && now - m_lastMatchTime >= PM_options.matchAtLeastEvery);
+	const bool odometryMoved =
+		!odomNow || lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
+	// The periodic check of a robot that odometry says stands still.
+	const bool check = !odometryMoved && PM_options.matchAtLeastEvery > 0 &&
+					   !(now - m_lastMatchTime < PM_options.matchAtLeastEvery);
+	const bool moved = odometryMoved || check;
 
 	// Where the prediction cannot be trusted, the match searches a wider window: after a time gap
 	// or an odometry jump, and while lost (the last match was rejected). The window grows with the
@@ -323,7 +326,13 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r);
 			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 			if (std::isfinite(now)) m_lastMatchTime = now;
-			if (acceptable(r.info))
+			// A periodic check that finds the robot where odometry says keeps the prediction: only
+			// a real displacement (the robot was carried, pushed) moves it, not matching jitter.
+			const bool stillThere = check && std::hypot(est.x - r.predicted.x, est.y - r.predicted.y) < 0.05 &&
+									std::abs(mrpt::math::wrapToPi(est.phi - r.predicted.phi)) < mrpt::DEG2RAD(1.0);
+			if (stillThere)
+				;  // not a match: the pose and the insertion gate stay as they were
+			else if (acceptable(r.info))
 			{
 				r.pose = est;
 				if (PM_options.degenerateBelow > 0)
