@@ -179,6 +179,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_lastScanTime = m_lastAcceptedTime = m_lastMatchTime = std::nan("");
 	m_lost = false;
 	m_last = ScanResult();
+	m_lastHits.clear();
 	m_last.pose = m_last.predicted = m_pose;
 	// Re-insert a given map's keyframes at their stored poses.
 	for (const auto& [posePDF, sf] : initialMap)
@@ -312,9 +313,11 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	angWindow = std::min(angWindow, M_PI);
 	if (std::isfinite(now)) m_lastScanTime = now;
 
+	std::vector<mrpt::math::TPoint2Df> lastHits;  // kept for getCurrentPoseEstimation()
 	if (m_mapEmpty || moved || !mapUpdating())
 	{
 		const ScanPoints pts = scanToPoints(scan, PM_options.grid.scan);
+		lastHits = pts.hits;
 		if (!m_mapEmpty && (moved || !mapUpdating()) && pts.hits.size() >= PM_options.minPoints)
 		{
 			const auto t0 = Clock::now();
@@ -427,6 +430,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		m_lastAcceptedTime = now;
 	}
 	m_pose = r.pose;
+	if (r.matched) m_lastHits = std::move(lastHits);
 	if (m_smoother) m_smoother->add(m_scans - 1, r.pose, r.odometry);
 	m_last = r;
 	return m_last;
@@ -558,7 +562,10 @@ mrpt::poses::CPose3DPDF::Ptr PerfectMatchSlam::getCurrentPoseEstimation() const
 	pdf->mean = mrpt::poses::CPose3D(mrpt::poses::CPose2D(m_pose));
 	if (m_last.matched)
 	{
-		Eigen::Matrix3d H = m_last.info.hessian;
+		// The curvature with each point pulling only across its surface: along a plain corridor
+		// the pose is then reported as unknown, not as fixed by dots and wall ends in the map.
+		const std::vector<mrpt::math::TPoint2Df> normals = surfaceNormals(m_lastHits);
+		Eigen::Matrix3d H = m_matcher.evaluate(m_grid->distanceMap(), m_lastHits, m_pose, &normals).hessian;
 		H.diagonal().array() += 1e-6;
 		const Eigen::Matrix3d C = H.inverse();
 		const int idx[3] = {0, 1, 3};  // x, y, yaw in the 6D covariance

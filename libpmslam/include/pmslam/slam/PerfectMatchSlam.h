@@ -295,6 +295,7 @@ class PerfectMatchSlam
 	/** The direction (unit, map frame) along which `hessian` leaves the position unconstrained, if any. */
 	std::optional<Eigen::Vector2d> weakDirection(const Eigen::Matrix3d& hessian) const;
 	ScanResult m_last;
+	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
 };
 
