@@ -275,4 +275,14 @@ std::vector<std::size_t> OccupancyDistanceGridMap::informativePoints(const std::
 	return out;
 }
 
+double OccupancyDistanceGridMap::unexploredFraction(const std::vector<mrpt::math::TPoint2Df>& points,
+													const mrpt::math::TPose2D& pose) const
+{
+	if (points.empty()) return 0.0;
+	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
+	std::size_t n = 0;
+	for (const auto& p : points) n += isUnexplored(pose.x + c * p.x - s * p.y, pose.y + s * p.x + c * p.y);
+	return double(n) / double(points.size());
+}
+
 }  // namespace pmslam

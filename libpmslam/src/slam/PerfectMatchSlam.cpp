@@ -60,7 +60,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 		mrpt::DEG2RAD(c.read_double(s, "relocalizeTurnRate_deg", mrpt::RAD2DEG(relocalizeTurnRate)));
 	relocalizeMaxLinear = c.read_double(s, "relocalizeMaxLinear", relocalizeMaxLinear);
 	relocalizeOdometryError = c.read_double(s, "relocalizeOdometryError", relocalizeOdometryError);
-	newGroundBelow = c.read_double(s, "newGroundBelow", newGroundBelow);
+	newGroundUnexplored = c.read_double(s, "newGroundUnexplored", newGroundUnexplored);
 	newGroundAfter = c.read_double(s, "newGroundAfter", newGroundAfter);
 	matchAtLeastEvery = c.read_double(s, "matchAtLeastEvery", matchAtLeastEvery);
 	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
@@ -89,7 +89,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(relocalizeTurnRate >= 0 && relocalizeTurnRate <= 2 * M_PI, "relocalizeTurnRate_deg: expected 0..360 deg/s");
 	need(relocalizeMaxLinear >= 0 && relocalizeMaxLinear <= 20, "relocalizeMaxLinear: expected 0..20 m");
 	need(relocalizeOdometryError >= 0 && relocalizeOdometryError <= 1, "relocalizeOdometryError: expected 0..1");
-	need(newGroundBelow >= 0 && newGroundBelow <= 1, "newGroundBelow: expected 0..1 (0 = off)");
+	need(newGroundUnexplored >= 0 && newGroundUnexplored <= 1, "newGroundUnexplored: expected 0..1 (0 = off)");
 	need(newGroundAfter >= 0, "newGroundAfter: expected >= 0 s");
 	need(matchAtLeastEvery >= 0, "matchAtLeastEvery: expected >= 0 s (0 = off)");
 	need(degenerateBelow >= 0 && degenerateBelow < 1, "degenerateBelow: expected 0..1 (0 = off)");
@@ -132,7 +132,7 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nrelocalizeSpeed = " << relocalizeSpeed
 		<< "\nrelocalizeTurnRate_deg = " << mrpt::RAD2DEG(relocalizeTurnRate)
 		<< "\nrelocalizeMaxLinear = " << relocalizeMaxLinear << "\nrelocalizeOdometryError = " << relocalizeOdometryError
-		<< "\nnewGroundBelow = " << newGroundBelow << "\nnewGroundAfter = " << newGroundAfter << "\nmatchAtLeastEvery = " << matchAtLeastEvery
+		<< "\nnewGroundUnexplored = " << newGroundUnexplored << "\nnewGroundAfter = " << newGroundAfter << "\nmatchAtLeastEvery = " << matchAtLeastEvery
 		<< "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
 		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi)
 		<< "\nodometryToScanTime = " << odometryToScanTime << "\nscanLatency = " << scanLatency
@@ -367,14 +367,14 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			{
 				r.rejected = true;
 				++m_rejected;
-				// Lost for a while and the scan barely overlaps the map at the prediction: the robot is
-				// on new ground (after a gap it drove somewhere never mapped). Nothing can be matched,
-				// so the scan goes in at the odometry pose and the map grows from there on; where it
-				// does overlap the map, the scan keeps being rejected instead of corrupting it.
+				// Lost for a while and the scan lies in space no scan has observed yet, at the
+				// prediction: the robot is on new ground (after a gap it drove somewhere never mapped).
+				// Nothing can be matched, so the scan goes in at the odometry pose and the map grows from
+				// there on. A scan over mapped space that does not match (the prediction is off) keeps
+				// being rejected instead of corrupting the map.
 				const double lostFor = m_gaps.empty() || !m_gaps.back().open ? 0.0 : now - m_gaps.back().from;
-				if (PM_options.newGroundBelow > 0 && lostFor >= PM_options.newGroundAfter &&
-					m_matcher.evaluate(m_grid->distanceMap(), pts.hits, r.predicted).inlierFraction <
-						PM_options.newGroundBelow)
+				if (PM_options.newGroundUnexplored > 0 && lostFor >= PM_options.newGroundAfter &&
+					m_grid->unexploredFraction(pts.hits, r.predicted) >= PM_options.newGroundUnexplored)
 				{
 					r.reanchored = true;
 					++m_reanchored;

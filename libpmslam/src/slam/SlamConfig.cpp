@@ -66,7 +66,7 @@ const Key kKeys[] = {
 	{"MappingApplication", "relocalizeTurnRate_deg", Type::Number},
 	{"MappingApplication", "relocalizeMaxLinear", Type::Number},
 	{"MappingApplication", "relocalizeOdometryError", Type::Number},
-	{"MappingApplication", "newGroundBelow", Type::Number},
+	{"MappingApplication", "newGroundUnexplored", Type::Number},
 	{"MappingApplication", "newGroundAfter", Type::Number},
 	{"MappingApplication", "matchAtLeastEvery", Type::Number},
 	{"MappingApplication", "odometryPriorSigmaXY", Type::Number},

@@ -89,6 +89,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) return true;
 		return getRawMap()[std::size_t(iy) * getSizeX() + ix] == 0;
 	}
+	/** The fraction of `points` (robot frame) that land in unexplored cells seen from `pose`. */
+	double unexploredFraction(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose) const;
 	/** The points (robot frame) that say something about a pose near `pose`: all but those that
 	 * land in unexplored space more than two cells from any obstacle. Beyond the end of a mapped
 	 * wall the distance map still pulls a point back towards the wall's end; along a corridor

@@ -133,11 +133,11 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);
 	double relocalizeOdometryError = 0.1;
 	double relocalizeMaxLinear = 4.0;
-	/** New ground while lost: once no match was accepted for newGroundAfter (s) and fewer than
-	 * newGroundBelow of a scan's points lie within the map's reach at the prediction, the robot is
-	 * somewhere never mapped (after a logging gap, say): the scan is inserted at the odometry pose
-	 * so that the map grows again and later scans match it (0 = never). */
-	double newGroundBelow = 0.2;
+	/** New ground while lost: once no match was accepted for newGroundAfter (s) and at least
+	 * newGroundUnexplored of a scan's points lie in cells no scan has observed (at the prediction),
+	 * the robot is somewhere never mapped (after a logging gap, say): the scan is inserted at the
+	 * odometry pose so that the map grows again and later scans match it (0 = never). */
+	double newGroundUnexplored = 0.8;
 	double newGroundAfter = 2.0;
 	/** Match a scan at least this often (s of log) even when odometry says the robot stands still
 	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
@@ -173,7 +173,7 @@ class PerfectMatchSlam
 		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
 		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
 		bool degenerate = false;  ///< the scan left a direction unconstrained: the prediction was kept along it
-		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundBelow)
+		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundUnexplow)
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
 		std::size_t cellsFlipped = 0;
 		PerfectMatchMatcher::MatchInfo info;
