@@ -63,6 +63,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	newGroundUnexplored = c.read_double(s, "newGroundUnexplored", newGroundUnexplored);
 	newGroundAfter = c.read_double(s, "newGroundAfter", newGroundAfter);
 	matchAtLeastEvery = c.read_double(s, "matchAtLeastEvery", matchAtLeastEvery);
+	matchWhenScanChanged = c.read_double(s, "matchWhenScanChanged", matchWhenScanChanged);
 	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
 	odometryPriorSigmaPhi =
 		mrpt::DEG2RAD(c.read_double(s, "odometryPriorSigmaPhi_deg", mrpt::RAD2DEG(odometryPriorSigmaPhi)));
@@ -92,6 +93,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(newGroundUnexplored >= 0 && newGroundUnexplored <= 1, "newGroundUnexplored: expected 0..1 (0 = off)");
 	need(newGroundAfter >= 0, "newGroundAfter: expected >= 0 s");
 	need(matchAtLeastEvery >= 0, "matchAtLeastEvery: expected >= 0 s (0 = off)");
+	need(matchWhenScanChanged >= 0 && matchWhenScanChanged <= 1, "matchWhenScanChanged: expected 0..1 (0 = off)");
 	need(degenerateBelow >= 0 && degenerateBelow < 1, "degenerateBelow: expected 0..1 (0 = off)");
 	need(mapInsertLinDistance >= 0 && mapInsertAngDistance >= 0, "mapInsertLinDistance, mapInsertAngDistance_deg: expected >= 0");
 	need((mapInsertLinDistance > 0) == (mapInsertAngDistance > 0),
@@ -132,7 +134,7 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nrelocalizeSpeed = " << relocalizeSpeed
 		<< "\nrelocalizeTurnRate_deg = " << mrpt::RAD2DEG(relocalizeTurnRate)
 		<< "\nrelocalizeMaxLinear = " << relocalizeMaxLinear << "\nrelocalizeOdometryError = " << relocalizeOdometryError
-		<< "\nnewGroundUnexplored = " << newGroundUnexplored << "\nnewGroundAfter = " << newGroundAfter << "\nmatchAtLeastEvery = " << matchAtLeastEvery
+		<< "\nnewGroundUnexplored = " << newGroundUnexplored << "\nnewGroundAfter = " << newGroundAfter << "\nmatchAtLeastEvery = " << matchAtLeastEvery << "\nmatchWhenScanChanged = " << matchWhenScanChanged
 		<< "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
 		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi)
 		<< "\nodometryToScanTime = " << odometryToScanTime << "\nscanLatency = " << scanLatency
@@ -180,6 +182,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_lost = false;
 	m_last = ScanResult();
 	m_lastHits.clear();
+	m_referenceRanges.clear();
 	m_last.pose = m_last.predicted = m_pose;
 	// Re-insert a given map's keyframes at their stored poses.
 	for (const auto& [posePDF, sf] : initialMap)
@@ -283,9 +286,13 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	// carried or pushed with its wheels locked moves without odometry knowing.
 	const bool odometryMoved =
 		!odomNow || lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
-	// The periodic check of a robot that odometry says stands still.
-	const bool check = !odometryMoved && PM_options.matchAtLeastEvery > 0 &&
-					   !(now - m_lastMatchTime < PM_options.matchAtLeastEvery);
+	// A robot that odometry says stands still is matched all the same when its scans say it moves
+	// (most ranges changed since the scan last matched or inserted: carried, pushed, or a logger that
+	// repeats a stale odometry reading) or, with matchAtLeastEvery, now and then.
+	const bool check =
+		!odometryMoved && !m_mapEmpty &&
+		((PM_options.matchAtLeastEvery > 0 && !(now - m_lastMatchTime < PM_options.matchAtLeastEvery)) ||
+		 (PM_options.matchWhenScanChanged > 0 && changedFraction(scan) > PM_options.matchWhenScanChanged));
 	const bool moved = odometryMoved || check;
 
 	// Where the prediction cannot be trusted, the match searches a wider window: after a time gap
@@ -329,6 +336,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r);
 			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 			if (std::isfinite(now)) m_lastMatchTime = now;
+			keepReferenceRanges(scan);
 			// A periodic check that finds the robot where odometry says keeps the prediction: only
 			// a real displacement (the robot was carried, pushed) moves it, not matching jitter.
 			const bool stillThere = check && std::hypot(est.x - r.predicted.x, est.y - r.predicted.y) < 0.05 &&
@@ -402,6 +410,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		{
 			const auto t0 = Clock::now();
 			r.cellsFlipped = m_grid->insertScan(pts, r.pose);
+			if (m_referenceRanges.empty()) keepReferenceRanges(scan);
 			r.updateMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 			r.inserted = true;
 			m_lastInsertPose = r.pose;
@@ -446,6 +455,28 @@ std::optional<Eigen::Vector2d> PerfectMatchSlam::weakDirection(const Eigen::Matr
 	const Eigen::Vector2d lambda = eig.eigenvalues();  // ascending
 	if (!(lambda[1] > 0) || lambda[0] >= PM_options.degenerateBelow * lambda[1]) return std::nullopt;
 	return Eigen::Vector2d(eig.eigenvectors().col(0));
+}
+
+double PerfectMatchSlam::changedFraction(const mrpt::obs::CObservation2DRangeScan& scan) const
+{
+	// Beams valid in both scans whose range moved by more than 0.1 m.
+	const std::size_t n = scan.getScanSize();
+	std::size_t both = 0, moved = 0;
+	if (m_referenceRanges.size() != n) return 1.0;	// another sensor, or none yet: unknown, so check
+	for (std::size_t i = 0; i < n; ++i)
+		if (scan.getScanRangeValidity(i) && m_referenceRanges[i] > 0)
+		{
+			++both;
+			moved += std::abs(scan.getScanRange(i) - m_referenceRanges[i]) > 0.1f;
+		}
+	return both >= 10 ? double(moved) / double(both) : 0.0;
+}
+
+void PerfectMatchSlam::keepReferenceRanges(const mrpt::obs::CObservation2DRangeScan& scan)
+{
+	const std::size_t n = scan.getScanSize();
+	m_referenceRanges.resize(n);
+	for (std::size_t i = 0; i < n; ++i) m_referenceRanges[i] = scan.getScanRangeValidity(i) ? scan.getScanRange(i) : 0.0f;
 }
 
 bool PerfectMatchSlam::acceptable(const PerfectMatchMatcher::MatchInfo& info) const

@@ -69,6 +69,7 @@ const Key kKeys[] = {
 	{"MappingApplication", "newGroundUnexplored", Type::Number},
 	{"MappingApplication", "newGroundAfter", Type::Number},
 	{"MappingApplication", "matchAtLeastEvery", Type::Number},
+	{"MappingApplication", "matchWhenScanChanged", Type::Number},
 	{"MappingApplication", "odometryPriorSigmaXY", Type::Number},
 	{"MappingApplication", "odometryPriorSigmaPhi_deg", Type::Number},
 	{"MappingApplication", "odometryToScanTime", Type::Bool},

@@ -143,6 +143,10 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
 	 * wheels moves without its odometry knowing. */
 	double matchAtLeastEvery = 0.0;
+	/** Match a scan that odometry says was taken standing still when more than this fraction of its
+	 * ranges changed by over 0.1 m since the scan last matched or inserted (0 = never): the scans say
+	 * the robot moves (carried, pushed, or a logger repeating a stale odometry reading). */
+	double matchWhenScanChanged = 0.3;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
@@ -296,6 +300,10 @@ class PerfectMatchSlam
 	std::optional<Eigen::Vector2d> weakDirection(const Eigen::Matrix3d& hessian) const;
 	ScanResult m_last;
 	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
+	std::vector<float> m_referenceRanges;  // of the scan last matched or inserted (0 = invalid)
+	/** Fraction of the beams valid in this scan and the reference scan whose range changed by > 0.1 m. */
+	double changedFraction(const mrpt::obs::CObservation2DRangeScan& scan) const;
+	void keepReferenceRanges(const mrpt::obs::CObservation2DRangeScan& scan);
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
 };
 
