@@ -146,7 +146,7 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	/** Match a scan that odometry says was taken standing still when more than this fraction of its
 	 * ranges changed by over 0.1 m since the scan last matched or inserted (0 = never): the scans say
 	 * the robot moves (carried, pushed, or a logger repeating a stale odometry reading). */
-	double matchWhenScanChanged = 0.3;
+	double matchWhenScanChanged = 0.0;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
