@@ -325,3 +325,77 @@ TEST(Robustness, HeadingSlipsKeepTheTrajectoryOnTheTruth)
 	// and the wide search never runs. A world that shows the difference is still to be found.
 	EXPECT_LT(oldErr, 2 * cleanErr + 0.02);
 }
+
+namespace
+{
+// Room A (west), a corridor east out of it that turns north, and room B at its north end, out of
+// sight from room A and from the corridor's east leg.
+SyntheticWorld twoRooms()
+{
+	SyntheticWorld w;
+	auto wall = [&](double x0, double y0, double x1, double y1) { w.segments.push_back({x0, y0, x1, y1}); };
+	// Room A, 6 x 6 m, a door in its east wall; a few boxes.
+	wall(-3, -3, 3, -3), wall(-3, 3, 3, 3), wall(-3, -3, -3, 3), wall(3, -3, 3, -0.6), wall(3, 0.6, 3, 3);
+	w.addBox(-2, 1.5, -1.2, 2.2), w.addBox(0.5, -2.5, 1.4, -1.9), w.addBox(-2.5, -1.0, -2.0, -0.2);
+	// Corridor: east leg y in [-0.6, 0.6] to x = 13, north leg x in [11.8, 13] to y = 10.
+	wall(3, -0.6, 13, -0.6), wall(3, 0.6, 11.8, 0.6), wall(13, -0.6, 13, 10), wall(11.8, 0.6, 11.8, 10);
+	// Room B, 7 x 7 m above it, open at the corridor; boxes of its own.
+	wall(9, 10, 11.8, 10), wall(13, 10, 16, 10), wall(9, 17, 16, 17), wall(9, 10, 9, 17), wall(16, 10, 16, 17);
+	w.addBox(10, 15.5, 11, 16.3), w.addBox(14.2, 12, 15.2, 12.6), w.addBox(9.5, 12.5, 10.1, 13.4);
+	return w;
+}
+
+// From the middle of room A east along the corridor, north up its second leg, into room B.
+std::vector<TPose2D> twoRoomsPath()
+{
+	std::vector<TPose2D> p;
+	for (double x = 0; x < 12.4; x += 0.05) p.push_back({x, 0, 0});
+	for (int k = 1; k <= 18; ++k) p.push_back({12.4, 0, M_PI / 2 * k / 18});
+	for (double y = 0.05; y < 15; y += 0.05) p.push_back({12.4, y, M_PI / 2});
+	return p;
+}
+}  // namespace
+
+TEST(Robustness, AfterALoggingGapOnNewGroundTheMapGrowsAgain)
+{
+	// Nothing is logged while the robot drives from the corridor's east leg (x = 6) into room B
+	// (y = 11); odometry is exact, so where the log resumes its pose is right, but the scans see
+	// only walls no scan has seen.
+	ScratchDir d("robust-new-ground");
+	const auto truth = twoRoomsPath();
+	CarmenLogSpec spec;
+	const auto lines = splitLines(carmenLog(twoRooms(), truth, truth, spec));
+	ASSERT_EQ(lines.size(), truth.size() + 2);
+	std::string text;
+	std::size_t gapFrom = 0, gapTo = 0;
+	for (std::size_t i = 0; i < lines.size(); ++i)
+	{
+		const bool inGap = i >= 2 && ((truth[i - 2].x > 6 && truth[i - 2].phi == 0) ||
+									  (truth[i - 2].phi > 0 && truth[i - 2].y < 11));
+		if (inGap && !gapFrom) gapFrom = i - 2;
+		if (!inGap && gapFrom && !gapTo) gapTo = i - 2;
+		if (!inGap) text += lines[i] + "\n";
+	}
+	ASSERT_GT(gapTo, gapFrom);
+	const auto log = d.write("gap.clf", text);
+
+	const auto a = mapLog(d, log, "new-ground");
+	EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
+	EXPECT_NE(a.result.output.find("the scans see new ground"), std::string::npos) << a.result.output;
+	ASSERT_FALSE(a.traj.empty());
+	// The trajectory file has a pose per logged scan: the last one is the truth's last.
+	const auto end = relativeToFirst(truth, truth.size() - 1);
+	EXPECT_NEAR(a.traj.back().x, end.x, 0.1);
+	EXPECT_NEAR(a.traj.back().y, end.y, 0.1);
+	mrpt::maps::COccupancyGridMap2D grid;
+	pmslam::loadGridMapGz((a.out / "map.gridmap.gz").string(), grid);
+	EXPECT_GT(wallMapped(grid, 9.2, 17, 15.8, 17), 0.8);  // room B's far wall
+
+	// Without the new-ground rule the robot stays lost to the end (8 s: exit 3 with --max-untracked 5)
+	// and room B never enters the map.
+	const auto b = mapLog(d, log, "stay-lost", "--max-untracked 5 --set MappingApplication.newGroundUnexplored=0");
+	EXPECT_EQ(b.result.exitCode, 3) << b.result.output;
+	mrpt::maps::COccupancyGridMap2D gridB;
+	pmslam::loadGridMapGz((b.out / "map.gridmap.gz").string(), gridB);
+	EXPECT_LT(wallMapped(gridB, 9.2, 17, 15.8, 17), 0.2);
+}
