@@ -72,6 +72,9 @@ than --max-untracked seconds of log somewhere (outputs written, each such span w
 130 interrupted (outputs still written).
 )";
 
+// A stretch without an accepted match longer than this (s of log) is warned about.
+constexpr double kWarnUntrackedSeconds = 3.0;
+
 std::atomic<bool> g_stop{false};
 void onSignal(int sig)
 {
@@ -386,7 +389,7 @@ int main(int argc, char** argv)
 	{
 		const double span = std::isfinite(g.to - g.from) ? g.to - g.from : 0.0;
 		longestUntracked = std::max(longestUntracked, span);
-		if (span <= 3.0) continue;
+		if (span <= kWarnUntrackedSeconds) continue;
 		++untrackedSpans;
 		std::fprintf(stderr,
 					 "pm-slam-app: warning: tracking lost from t=%.3f to t=%.3f (%.1f s of log, %zu rejected matches%s): "
@@ -423,9 +426,9 @@ int main(int argc, char** argv)
 		std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
 					traj.size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
 		std::printf("  tracking: %s; %zu matches rejected, %zu wide searches, %zu re-localisations, %zu scans inserted "
-					"at the odometry pose on new ground, longest span without an accepted match %.1f s (%zu over 3 s)\n",
+					"at the odometry pose on new ground, longest span without an accepted match %.1f s (%zu over %.0f s)\n",
 					trackingLost ? "LOST (exit status 3)" : "ok", slam.scansRejected(), slam.wideSearches(),
-					slam.relocalizations(), slam.reanchorings(), longestUntracked, untrackedSpans);
+					slam.relocalizations(), slam.reanchorings(), longestUntracked, untrackedSpans, kWarnUntrackedSeconds);
 		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
 					total.empty() ? 0.0 : sumMs / total.size(), pmslam::percentile(total, 0.5), pmslam::percentile(total, 0.99));
 		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx\n", sumMs / 1000.0, wallS,

@@ -332,7 +332,18 @@ class CostFunction
 	const mrpt::math::TPoint2Df* m_normals;
 };
 
-
+// What a match reports, from the evaluation at its pose (iterations are the caller's).
+PerfectMatchMatcher::MatchInfo matchInfo(const Evaluation& e)
+{
+	PerfectMatchMatcher::MatchInfo info;
+	info.nPoints = e.n;
+	info.finalCost = e.n ? e.cost / e.n : 0.0;
+	info.inlierFraction = e.n ? double(e.inliers) / e.n : 0.0;
+	info.goodness = e.n ? e.likelihoodSum / e.n : 0.0;
+	info.inlierGoodness = e.inliers ? e.inlierLikelihoodSum / e.inliers : 0.0;
+	info.hessian = e.hessian;
+	return info;
+}
 
 }  // namespace
 
@@ -354,14 +365,7 @@ PerfectMatchMatcher::MatchInfo PerfectMatchMatcher::evaluate(const DynamicDistan
 	o.decimation = 1;
 	const Evaluation e =
 		CostFunction(map, points, o, nullptr, normals)(Eigen::Vector3d(pose.x, pose.y, pose.phi), CostFunction::kCurvature);
-	MatchInfo info;
-	info.nPoints = e.n;
-	info.finalCost = e.n ? e.cost / e.n : 0.0;
-	info.inlierFraction = e.n ? double(e.inliers) / e.n : 0.0;
-	info.goodness = e.n ? e.likelihoodSum / e.n : 0.0;
-	info.inlierGoodness = e.inliers ? e.inlierLikelihoodSum / e.inliers : 0.0;
-	info.hessian = e.hessian;
-	return info;
+	return matchInfo(e);
 }
 
 double PerfectMatchMatcher::cost(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
@@ -507,13 +511,8 @@ mrpt::math::TPose2D PerfectMatchMatcher::alignPoints(const DynamicDistanceMap& m
 	const Evaluation fin = f(best, CostFunction::kCurvature);
 	if (info)
 	{
+		*info = matchInfo(fin);
 		info->nIterations = it;
-		info->nPoints = fin.n;
-		info->finalCost = fin.n ? fin.cost / fin.n : 0.0;
-		info->inlierFraction = fin.n ? double(fin.inliers) / fin.n : 0.0;
-		info->goodness = fin.n ? fin.likelihoodSum / fin.n : 0.0;
-		info->inlierGoodness = fin.inliers ? fin.inlierLikelihoodSum / fin.inliers : 0.0;
-		info->hessian = fin.hessian;
 	}
 	if (covariance)
 	{

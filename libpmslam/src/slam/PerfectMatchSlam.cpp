@@ -270,8 +270,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		else
 		{
 			std::ostringstream m;
-			m << "odometry jumped " << std::hypot(delta.x(), delta.y())
-			  << " m between two scans: ignored (constant-position prediction)";
+			m << "odometry jumped " << odometryStep << " m between two scans: ignored (constant-position prediction)";
 			warn(m.str());
 		}
 	}
@@ -281,9 +280,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 
 	const double lin = std::hypot(r.predicted.x - m_lastInsertPose.x, r.predicted.y - m_lastInsertPose.y);
 	const double ang = std::abs(mrpt::math::wrapToPi(r.predicted.phi - m_lastInsertPose.phi));
-	// Without any odometry the prediction never moves, so every scan is matched. Odometry that
-	// says "standing still" is checked every matchAtLeastEvery seconds all the same: a robot
-	// carried or pushed with its wheels locked moves without odometry knowing.
+	// Without any odometry the prediction never moves, so every scan is matched.
 	const bool odometryMoved =
 		!odomNow || lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
 	// A robot that odometry says stands still is matched all the same when its scans say it moves
@@ -295,9 +292,8 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		 (PM_options.matchWhenScanChanged > 0 && changedFraction(scan) > PM_options.matchWhenScanChanged));
 	const bool moved = odometryMoved || check;
 
-	// Where the prediction cannot be trusted, the match searches a wider window: after a time gap
-	// or an odometry jump, and while lost (the last match was rejected). The window grows with the
-	// time since the last accepted match, as far as the robot may have gone.
+	// Where the prediction cannot be trusted, the match searches a wider window: while lost (the
+	// last match was rejected), and after a time gap or an odometry jump.
 	const bool gap = sincePrevious > PM_options.relocalizeAfterGap;
 	const bool jump = odometryStep > PM_options.relocalizeAfterJump;
 	double linWindow = PM_options.wideSearchLinear, angWindow = PM_options.wideSearchAngular;
@@ -320,11 +316,9 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	angWindow = std::min(angWindow, M_PI);
 	if (std::isfinite(now)) m_lastScanTime = now;
 
-	std::vector<mrpt::math::TPoint2Df> lastHits;  // kept for getCurrentPoseEstimation()
 	if (m_mapEmpty || moved || !mapUpdating())
 	{
 		const ScanPoints pts = scanToPoints(scan, PM_options.grid.scan);
-		lastHits = pts.hits;
 		if (!m_mapEmpty && (moved || !mapUpdating()) && pts.hits.size() >= PM_options.minPoints)
 		{
 			const auto t0 = Clock::now();
@@ -348,11 +342,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 				r.pose = est;
 				if (PM_options.degenerateBelow > 0)
 				{
-					// Which directions the scan fixes: the curvature with every point pulling only
-					// across its surface (dots and wall ends do not count as constraints).
-					const auto normals = surfaceNormals(pts.hits);
-					const Eigen::Matrix3d H = m_matcher.evaluate(m_grid->distanceMap(), pts.hits, est, &normals).hessian;
-					if (const auto weak = weakDirection(H))
+					if (const auto weak = weakDirection(surfaceCurvature(pts.hits, est)))
 					{
 						// Match again with the position along the weak direction held at the prediction
 						// (a stiff prior there and nowhere else): across it and in heading the scan decides.
@@ -361,15 +351,15 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 						pin.information.topLeftCorner<2, 2>() = 1e6 * (*weak) * weak->transpose();
 						const Eigen::Vector2d off(est.x - r.predicted.x, est.y - r.predicted.y);
 						const Eigen::Vector2d start = Eigen::Vector2d(est.x, est.y) - weak->dot(off) * (*weak);
-						PerfectMatchMatcher::MatchInfo pinnedInfo;
 						r.pose = m_matcher.alignPoints(m_grid->distanceMap(), pts.hits,
-													   mrpt::math::TPose2D(start[0], start[1], est.phi), &pinnedInfo,
+													   mrpt::math::TPose2D(start[0], start[1], est.phi), nullptr,
 													   nullptr, &pin);
 						r.degenerate = true;
 					}
 				}
 				r.matched = true;
 				++m_matched;
+				m_lastHits = pts.hits;  // for getCurrentPoseEstimation()
 			}
 			else
 			{
@@ -439,10 +429,18 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		m_lastAcceptedTime = now;
 	}
 	m_pose = r.pose;
-	if (r.matched) m_lastHits = std::move(lastHits);
 	if (m_smoother) m_smoother->add(m_scans - 1, r.pose, r.odometry);
 	m_last = r;
 	return m_last;
+}
+
+Eigen::Matrix3d PerfectMatchSlam::surfaceCurvature(const std::vector<mrpt::math::TPoint2Df>& hits,
+												   const mrpt::math::TPose2D& pose) const
+{
+	// Each point pulling only across its surface: dots and wall ends in the map do not count as
+	// constraints, so a plain corridor shows that it does not fix the pose along it.
+	const std::vector<mrpt::math::TPoint2Df> normals = surfaceNormals(hits);
+	return m_matcher.evaluate(m_grid->distanceMap(), hits, pose, &normals).hessian;
 }
 
 std::optional<Eigen::Vector2d> PerfectMatchSlam::weakDirection(const Eigen::Matrix3d& hessian) const
@@ -525,10 +523,10 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 	if (co.linearStep > 0.1 + 1e-9)
 	{
 		CorrelativeSearch::Options fo;
+		fo.candidates = 1;
 		std::vector<CorrelativeSearch::Candidate> fine;
 		for (const auto& c : starts)
 		{
-			fo.candidates = 1;
 			const auto f = CorrelativeSearch(fo).search(dm, hits, c.pose, co.linearStep, 2 * co.maxAngularStep);
 			if (!f.empty()) fine.push_back(f.front());
 		}
@@ -593,10 +591,8 @@ mrpt::poses::CPose3DPDF::Ptr PerfectMatchSlam::getCurrentPoseEstimation() const
 	pdf->mean = mrpt::poses::CPose3D(mrpt::poses::CPose2D(m_pose));
 	if (m_last.matched)
 	{
-		// The curvature with each point pulling only across its surface: along a plain corridor
-		// the pose is then reported as unknown, not as fixed by dots and wall ends in the map.
-		const std::vector<mrpt::math::TPoint2Df> normals = surfaceNormals(m_lastHits);
-		Eigen::Matrix3d H = m_matcher.evaluate(m_grid->distanceMap(), m_lastHits, m_pose, &normals).hessian;
+		// Along a plain corridor the pose is reported as unknown, not as fixed by dots and wall ends.
+		Eigen::Matrix3d H = surfaceCurvature(m_lastHits, m_pose);
 		H.diagonal().array() += 1e-6;
 		const Eigen::Matrix3d C = H.inverse();
 		const int idx[3] = {0, 1, 3};  // x, y, yaw in the 6D covariance

@@ -296,6 +296,8 @@ class PerfectMatchSlam
 								  const PerfectMatchMatcher::PosePrior* prior, double linWindow, double angWindow,
 								  ScanResult& r);
 	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
+	/** The curvature of the match of `hits` at `pose` with each point pulling only across its surface. */
+	Eigen::Matrix3d surfaceCurvature(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& pose) const;
 	/** The direction (unit, map frame) along which `hessian` leaves the position unconstrained, if any. */
 	std::optional<Eigen::Vector2d> weakDirection(const Eigen::Matrix3d& hessian) const;
 	ScanResult m_last;
