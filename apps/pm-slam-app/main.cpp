@@ -177,11 +177,18 @@ struct ScanTiming
 };
 
 void writeOutputs(const std::string& dir, const pmslam::PerfectMatchSlam& slam, const pmslam::Trajectory& traj,
-				  const std::vector<ScanTiming>& timing, const std::string& header, bool localizing)
+				  const pmslam::Trajectory& online, const std::vector<ScanTiming>& timing, const std::string& header,
+				  bool localizing)
 {
 	namespace fs = std::filesystem;
 	const auto at = [&](const char* name) { return (fs::path(dir) / name).string(); };
-	pmslam::saveTrajectory(at("trajectory.txt"), traj, header + "\nposes of the robot base in the map frame (m, m, rad)");
+	pmslam::saveTrajectory(at("trajectory.txt"), traj,
+						   header + "\nposes of the robot base in the map frame (m, m, rad)" +
+							   (slam.loopClosure() ? ", after loop closure (the final pose graph)" : ""));
+	if (!localizing)
+		pmslam::saveTrajectory(at("trajectory_online.txt"), online,
+							   header + "\neach pose as known when its scan was processed (before later loop closures)");
+	if (slam.loopClosure()) slam.loopClosure()->graph().writeGraphFile(at("graph.graph"));
 	pmslam::writeFileAtomically(at("timing.txt"), [&](std::ostream& out) {
 		out << "# " << header
 			<< "\n# timestamp match_ms update_ms total_ms matched inserted iterations goodness tracking wide_search"
@@ -272,6 +279,7 @@ int main(int argc, char** argv)
 	pmslam::PerfectMatchSlam slam;
 	slam.PM_options = cfg.mapping;
 	slam.PM_params = cfg.matcher;
+	slam.LC_options = cfg.loopClosure;
 	slam.initialize();
 	if (!args.localize.empty())
 	{
@@ -366,6 +374,22 @@ int main(int argc, char** argv)
 	}
 	progress.clear();
 	applySmoothedPoses(true);  // the last scans' poses wait for a look-ahead that will not come
+	// The online poses as they were; the final ones follow the optimised pose graph.
+	const pmslam::Trajectory online = traj;
+	try
+	{
+		slam.finishLoopClosure();
+		std::vector<mrpt::math::TPose2D> poses;
+		poses.reserve(traj.size());
+		for (const auto& p : traj) poses.emplace_back(p.x, p.y, p.yaw);
+		poses = slam.correctedTrajectory(poses);
+		for (std::size_t i = 0; i < traj.size(); ++i) traj[i].x = poses[i].x, traj[i].y = poses[i].y, traj[i].yaw = poses[i].phi;
+	}
+	catch (const std::exception& e)
+	{
+		failed = true;
+		failure = std::string("loop closure: ") + e.what();
+	}
 	const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
 	if (traj.empty() && !g_stop && !failed)
@@ -403,7 +427,7 @@ int main(int argc, char** argv)
 	if (!args.localize.empty()) header << " localised on " << args.localize;
 	try
 	{
-		writeOutputs(args.out, slam, traj, timing, header.str(), !args.localize.empty());
+		writeOutputs(args.out, slam, traj, online, timing, header.str(), !args.localize.empty());
 	}
 	catch (const std::exception& e)
 	{
@@ -429,6 +453,15 @@ int main(int argc, char** argv)
 					"at the odometry pose on new ground, longest span without an accepted match %.1f s (%zu over %.0f s)\n",
 					trackingLost ? "LOST (exit status 3)" : "ok", slam.scansRejected(), slam.wideSearches(),
 					slam.relocalizations(), slam.reanchorings(), longestUntracked, untrackedSpans, kWarnUntrackedSeconds);
+		if (const auto* lc = slam.loopClosure())
+		{
+			const auto& ls = lc->stats();
+			std::printf("  loop closure: %zu loops closed; loop edges %zu accepted, %zu of them rejected by the chi-square "
+						"test (%zu matches verified in %zu attempts); %zu optimisations, %zu map rebuilds; back-end %.2f s "
+						"on its thread (optimiser %.2f s), front-end waited %.2f s; graph: %s/graph.graph\n",
+						ls.closures, ls.accepted, ls.rejected, ls.verified, ls.attempts, ls.optimizations, ls.rebuilds,
+						ls.backendSeconds, ls.optimizeSeconds, ls.waitSeconds, args.out.c_str());
+		}
 		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
 					total.empty() ? 0.0 : sumMs / total.size(), pmslam::percentile(total, 0.5), pmslam::percentile(total, 0.99));
 		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx\n", sumMs / 1000.0, wallS,

@@ -116,6 +116,7 @@ void OccupancyDistanceGridMap::applyUpdate(int ix, int iy, int delta)
 	const bool occupied = v < 0;
 	if (occupied == wasOccupied) return;
 	++m_flips;
+	if (m_deferDistance) return;
 	if (occupied)
 		m_distance.addObstacle(ix + m_offX, iy + m_offY);
 	else
@@ -221,7 +222,7 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 	// its endpoint that hold that same wall: stopping the carving short keeps such walls solid.
 	for (const auto& p : scan.hits) carveTo(p, margin);
 	for (const auto& p : scan.freeEnds) carveTo(p, 0.0);
-	m_distance.update();
+	if (!m_deferDistance) m_distance.update();
 	m_is_empty = false;
 	return m_flips;
 }
@@ -235,6 +236,16 @@ bool OccupancyDistanceGridMap::internal_insertObservation(const mrpt::obs::CObse
 	if (robotPose) pose = mrpt::poses::CPose2D(*robotPose).asTPose();
 	insertScan(scanToPoints(*scan, m_opts.scan), pose);
 	return true;
+}
+
+void OccupancyDistanceGridMap::insertScans(const std::vector<std::pair<mrpt::math::TPose2D, const ScanPoints*>>& scans)
+{
+	// The distance layer once at the end: propagating every flip of every scan would redo the
+	// same cells many times over.
+	m_deferDistance = true;
+	for (const auto& [pose, scan] : scans) insertScan(*scan, pose);
+	m_deferDistance = false;
+	rebuildDistanceMap();
 }
 
 void OccupancyDistanceGridMap::rebuildDistanceMap()

@@ -114,4 +114,26 @@ std::vector<CorrelativeSearch::Candidate> CorrelativeSearch::search(const Dynami
 	return out;
 }
 
+std::vector<CorrelativeSearch::Candidate> CorrelativeSearch::coarseToFine(
+	const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& centre,
+	double linearWindow, double angularWindow, std::size_t candidates)
+{
+	Options co;
+	co.candidates = candidates;
+	co.linearStep = std::max(0.1, linearWindow / 8);
+	co.fieldSigma = std::min(map.maxDistance(), 1.5 * co.linearStep);
+	co.maxAngularStep = std::max(co.maxAngularStep, std::min(2.0 * M_PI / 180, angularWindow / 45));
+	std::vector<Candidate> starts = CorrelativeSearch(co).search(map, points, centre, linearWindow, angularWindow);
+	if (co.linearStep <= 0.1 + 1e-9) return starts;
+	Options fo;
+	fo.candidates = 1;
+	std::vector<Candidate> fine;
+	for (const auto& c : starts)
+	{
+		const auto f = CorrelativeSearch(fo).search(map, points, c.pose, co.linearStep, 2 * co.maxAngularStep);
+		if (!f.empty()) fine.push_back(f.front());
+	}
+	return fine;
+}
+
 }  // namespace pmslam

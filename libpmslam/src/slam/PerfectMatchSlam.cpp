@@ -184,6 +184,14 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_lastHits.clear();
 	m_referenceRanges.clear();
 	m_last.pose = m_last.predicted = m_pose;
+	m_loops.reset();
+	if (LC_options.enabled) m_loops = std::make_unique<LoopClosure>(LC_options, PM_params, PM_options.grid);
+	m_trackedSinceKeyframe = true;
+	m_frame = mrpt::poses::CPose2D();
+	m_frames.assign(1, m_frame);
+	m_scanFrame.clear();
+	m_scanAnchor.clear();
+	m_nodeInFirstFrame.clear();
 	// Re-insert a given map's keyframes at their stored poses.
 	for (const auto& [posePDF, sf] : initialMap)
 	{
@@ -192,7 +200,9 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 		for (const auto& obs : *sf)
 			if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(obs.get()))
 			{
-				m_grid->insertScan(scanToPoints(*scan, PM_options.grid.scan), p);
+				ScanPoints pts = scanToPoints(*scan, PM_options.grid.scan);
+				m_grid->insertScan(pts, p);
+				if (m_loops) m_loops->addFixedScan(p, std::move(pts));
 				m_mapEmpty = false;
 			}
 		if (PM_options.keepSimpleMap) m_initialKeyframes.insert(posePDF, sf);
@@ -399,6 +409,9 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		if (insert)
 		{
 			const auto t0 = Clock::now();
+			// The back-end's work since the last keyframe: a new map at corrected poses, if any.
+			if (m_loops)
+				if (auto u = m_loops->sync()) applyMapCorrection(*u, r);
 			r.cellsFlipped = m_grid->insertScan(pts, r.pose);
 			if (m_referenceRanges.empty()) keepReferenceRanges(scan);
 			r.updateMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -408,8 +421,15 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			m_mapEmpty = false;
 			++m_inserted;
 			if (PM_options.keepSimpleMap) m_keyframes.add(r.pose, scan);
+			if (m_loops)
+			{
+				m_nodeInFirstFrame.push_back((-m_frame + mrpt::poses::CPose2D(r.pose)).asTPose());
+				m_loops->addKeyframe(r.pose, now, pts, r.info.hessian, (r.matched || m_loops->nodeCount() == 0) && m_trackedSinceKeyframe);
+				m_trackedSinceKeyframe = true;
+			}
 		}
 	}
+	if (r.rejected || r.reanchored) m_trackedSinceKeyframe = false;
 	// Tracking state: a rejected match opens (or extends) a gap, an accepted one closes it.
 	if (r.rejected)
 	{
@@ -429,7 +449,13 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		m_lastAcceptedTime = now;
 	}
 	m_pose = r.pose;
-	if (m_smoother) m_smoother->add(m_scans - 1, r.pose, r.odometry);
+	if (m_loops)
+	{
+		m_scanFrame.push_back(static_cast<uint32_t>(m_frames.size() - 1));
+		m_scanAnchor.push_back(m_loops->nodeCount() ? static_cast<uint32_t>(m_loops->nodeCount() - 1) : UINT32_MAX);
+	}
+	// The smoother works in the first frame, where the poses are continuous across map corrections.
+	if (m_smoother) m_smoother->add(m_scans - 1, (-m_frame + mrpt::poses::CPose2D(r.pose)).asTPose(), r.odometry);
 	m_last = r;
 	return m_last;
 }
@@ -513,25 +539,8 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 	r.wideSearch = true;
 	++m_wideSearches;
 
-	// Coarse lattice over the whole window (at most ~17 steps per axis), then a fine one around
-	// each coarse peak, then PM from each fine peak.
-	CorrelativeSearch::Options co;
-	co.linearStep = std::max(0.1, linWindow / 8);
-	co.fieldSigma = std::min(dm.maxDistance(), 1.5 * co.linearStep);
-	co.maxAngularStep = std::max(co.maxAngularStep, std::min(mrpt::DEG2RAD(2.0), angWindow / 45));
-	std::vector<CorrelativeSearch::Candidate> starts = CorrelativeSearch(co).search(dm, hits, predicted, linWindow, angWindow);
-	if (co.linearStep > 0.1 + 1e-9)
-	{
-		CorrelativeSearch::Options fo;
-		fo.candidates = 1;
-		std::vector<CorrelativeSearch::Candidate> fine;
-		for (const auto& c : starts)
-		{
-			const auto f = CorrelativeSearch(fo).search(dm, hits, c.pose, co.linearStep, 2 * co.maxAngularStep);
-			if (!f.empty()) fine.push_back(f.front());
-		}
-		starts = fine;
-	}
+	const std::vector<CorrelativeSearch::Candidate> starts =
+		CorrelativeSearch::coarseToFine(dm, hits, predicted, linWindow, angWindow);
 	// A pose away from the prediction must be clearly better than the match there, and explain
 	// the scan as a normal match does: after a gap or in a look-alike place a mediocre candidate
 	// is more often a wrong pose than a right one.
@@ -558,7 +567,59 @@ std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> PerfectMatchSlam::takeS
 	std::lock_guard<std::mutex> lock(mapMutex());
 	if (!m_smoother) return {};
 	if (finish) m_smoother->finish();
-	return m_smoother->takeFinal();
+	auto out = m_smoother->takeFinal();
+	if (m_loops)  // back to the frame the front-end had at each scan
+		for (auto& [i, p] : out)
+			if (i < m_scanFrame.size()) p = (m_frames[m_scanFrame[i]] + mrpt::poses::CPose2D(p)).asTPose();
+	return out;
+}
+
+void PerfectMatchSlam::applyMapCorrection(LoopClosure::Update& u, ScanResult& r)
+{
+	// The new map is in the graph's frame; every pose the front-end holds moves with it.
+	const mrpt::poses::CPose2D& T = u.correction;
+	const auto move = [&](mrpt::math::TPose2D& p) { p = (T + mrpt::poses::CPose2D(p)).asTPose(); };
+	move(r.pose);
+	move(r.predicted);
+	move(m_pose);
+	move(m_lastInsertPose);
+	move(m_lastMapPose);
+	m_frame = T + m_frame;
+	m_frames.push_back(m_frame);
+	m_grid = std::move(u.grid);
+	m_metricMap.maps.clear();
+	m_metricMap.maps.push_back(m_grid);
+	r.mapCorrected = true;
+}
+
+void PerfectMatchSlam::finishLoopClosure()
+{
+	std::lock_guard<std::mutex> lock(mapMutex());
+	if (!m_loops) return;
+	if (auto u = m_loops->finish())
+	{
+		ScanResult scratch;
+		applyMapCorrection(*u, scratch);
+	}
+	if (PM_options.keepSimpleMap && m_keyframes.size() == m_loops->nodeCount())
+		for (std::size_t i = 0; i < m_keyframes.size(); ++i) m_keyframes.setPose(i, m_loops->nodePose(i));
+}
+
+std::vector<mrpt::math::TPose2D> PerfectMatchSlam::correctedTrajectory(const std::vector<mrpt::math::TPose2D>& online) const
+{
+	std::vector<mrpt::math::TPose2D> out = online;
+	if (!m_loops) return out;
+	for (std::size_t i = 0; i < out.size() && i < m_scanAnchor.size(); ++i)
+	{
+		const uint32_t n = m_scanAnchor[i];
+		if (n == UINT32_MAX || n >= m_nodeInFirstFrame.size()) continue;
+		// In the first frame the scan sits at a fixed offset from its keyframe; the keyframe
+		// goes where the graph has it, and the scan with it.
+		const mrpt::poses::CPose2D inFirst = -m_frames[m_scanFrame[i]] + mrpt::poses::CPose2D(online[i]);
+		const mrpt::poses::CPose2D offset = inFirst - mrpt::poses::CPose2D(m_nodeInFirstFrame[n]);
+		out[i] = (mrpt::poses::CPose2D(m_loops->nodePose(n)) + offset).asTPose();
+	}
+	return out;
 }
 
 void PerfectMatchSlam::processObservation(const mrpt::obs::CObservation::Ptr& obs)
@@ -682,6 +743,7 @@ void PerfectMatchSlam::initializeWithFixedMap(const mrpt::maps::COccupancyGridMa
 	m_metricMap.maps.clear();
 	m_metricMap.maps.push_back(m_grid);
 	m_mapEmpty = false;
+	m_loops.reset();  // the map is fixed: nothing to close
 	setMapUpdating(false);
 }
 

@@ -88,6 +88,31 @@ const Key kKeys[] = {
 	{"MappingApplication", "minRange", Type::Number},
 	{"MappingApplication", "maxHitRange", Type::Number},
 	{"MappingApplication", "noReturnCarveRange", Type::Number},
+	{"LoopClosure", "enabled", Type::Bool},
+	{"LoopClosure", "minTravel", Type::Number},
+	{"LoopClosure", "searchRadius", Type::Number},
+	{"LoopClosure", "searchRadiusPerMeter", Type::Number},
+	{"LoopClosure", "maxSearchRadius", Type::Number},
+	{"LoopClosure", "searchAngle_deg", Type::Number},
+	{"LoopClosure", "searchAnglePerMeter_deg", Type::Number},
+	{"LoopClosure", "maxSearchAngle_deg", Type::Number},
+	{"LoopClosure", "detectEvery", Type::Number},
+	{"LoopClosure", "localMapExtent", Type::Number},
+	{"LoopClosure", "minGoodness", Type::Number},
+	{"LoopClosure", "minInlierFraction", Type::Number},
+	{"LoopClosure", "ambiguityMargin", Type::Number},
+	{"LoopClosure", "agreeingMatches", Type::Integer},
+	{"LoopClosure", "agreeWindow", Type::Number},
+	{"LoopClosure", "agreeLinear", Type::Number},
+	{"LoopClosure", "agreeAngular_deg", Type::Number},
+	{"LoopClosure", "informationScale", Type::Number},
+	{"LoopClosure", "odometrySigmaLinear", Type::Number},
+	{"LoopClosure", "odometrySigmaPerMeter", Type::Number},
+	{"LoopClosure", "odometrySigmaAngular_deg", Type::Number},
+	{"LoopClosure", "odometrySigmaPerRadian", Type::Number},
+	{"LoopClosure", "optimizeEvery", Type::Integer},
+	{"LoopClosure", "rebuildAbove", Type::Number},
+	{"LoopClosure", "background", Type::Bool},
 	{"Log", "noReturnRange", Type::Number},
 	{"Log", "odometrySource", Type::Word},
 };
@@ -249,6 +274,7 @@ SlamConfig parseChecked(const std::string& iniText, const std::string& sourceNam
 	{
 		c.matcher.loadFromConfigFile(cfg, "PerfectMatch");
 		c.mapping.loadFromConfigFile(cfg, "MappingApplication");
+		c.loopClosure.loadFromConfigFile(cfg, "LoopClosure");
 		c.log.noReturnRange = cfg.read_double("Log", "noReturnRange", c.log.noReturnRange);
 		if (!(c.log.noReturnRange > 0)) throw std::invalid_argument("[Log] noReturnRange: expected a range > 0 m");
 		c.odometrySource = parseOdometrySource(trim(cfg.read_string("Log", "odometrySource", "auto")), where);

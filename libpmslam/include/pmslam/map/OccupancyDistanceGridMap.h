@@ -31,6 +31,7 @@
 #include <pmslam/sensor/ScanPoints.h>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace pmslam
@@ -77,6 +78,10 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	 * (map frame). Returns how many cells flipped occupied/free. */
 	std::size_t insertScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose);
 
+	/** Inserts many scans (a map rebuilt at corrected poses), in order: the same grid as one
+	 * insertScan() each, with the distance layer computed once at the end. */
+	void insertScans(const std::vector<std::pair<mrpt::math::TPose2D, const ScanPoints*>>& scans);
+
 	/** True when cell (global index) is an obstacle in the binarised grid. */
 	bool isOccupiedCell(int gx, int gy) const { return m_distance.isObstacle(gx, gy); }
 	/** Global cell index of world coordinate v. */
@@ -121,6 +126,7 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	std::vector<uint16_t> m_stamp;  // last scan that touched each grid cell (wraps; cleared then)
 	uint16_t m_scanId = 0;
 	std::size_t m_flips = 0;
+	bool m_deferDistance = false;  // insertScans(): the distance layer is rebuilt at the end
 };
 
 }  // namespace pmslam

@@ -50,6 +50,15 @@ class CorrelativeSearch
 	 * first; distinct candidates differ by at least two lattice steps or two rotation steps. */
 	std::vector<Candidate> search(const DynamicDistanceMap& map, const std::vector<mrpt::math::TPoint2Df>& points,
 								  const mrpt::math::TPose2D& centre, double linearWindow, double angularWindow) const;
+
+	/** Starting poses for a refinement over a window of any size: a coarse lattice over the whole
+	 * window (steps of max(0.1 m, linearWindow / 8), so at most ~17 per axis), then a fine one
+	 * (0.1 m) around each coarse peak; best coarse peak first. The cost stays bounded however
+	 * wide the window (a re-localisation, a loop closure's uncertainty). */
+	static std::vector<Candidate> coarseToFine(const DynamicDistanceMap& map,
+											   const std::vector<mrpt::math::TPoint2Df>& points,
+											   const mrpt::math::TPose2D& centre, double linearWindow,
+											   double angularWindow, std::size_t candidates = 4);
 };
 
 }  // namespace pmslam

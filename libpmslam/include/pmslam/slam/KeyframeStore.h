@@ -39,6 +39,8 @@ class KeyframeStore
 
 	/** Pose and (rebuilt) scan of keyframe i. */
 	mrpt::math::TPose2D pose(std::size_t i) const { return m_frames.at(i).pose; }
+	/** Moves keyframe i (a loop closure corrected it). */
+	void setPose(std::size_t i, const mrpt::math::TPose2D& pose) { m_frames.at(i).pose = pose; }
 	mrpt::obs::CObservation2DRangeScan::Ptr scan(std::size_t i) const;
 
 	/** All keyframes as an MRPT simple map (one sensory frame with one scan each, Gaussian

@@ -38,6 +38,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DPDF.h>
 #include <mrpt/poses/CPosePDF.h>
+#include <pmslam/graph/LoopClosure.h>
 #include <pmslam/slam/KeyframeStore.h>
 #include <pmslam/slam/OdometrySmoother.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
@@ -165,6 +166,7 @@ class PerfectMatchSlam
 
 	MapBuilderOptions PM_options;  ///< mapping options (apply before initialize())
 	PerfectMatchMatcher::TConfigParams PM_params;  ///< matcher options
+	LoopClosureOptions LC_options;	///< loop closure (apply before initialize(); off in localisation)
 
 	/** What happened to the last scan. */
 	struct ScanResult
@@ -177,7 +179,8 @@ class PerfectMatchSlam
 		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
 		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
 		bool degenerate = false;  ///< the scan left a direction unconstrained: the prediction was kept along it
-		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundUnexplow)
+		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundUnexplored)
+		bool mapCorrected = false;	///< a loop closure's new map was handed over at this scan (poses moved)
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
 		std::size_t cellsFlipped = 0;
 		PerfectMatchMatcher::MatchInfo info;
@@ -231,6 +234,17 @@ class PerfectMatchSlam
 	 * pose still waiting for its look-ahead is finalised too (end of the log). */
 	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> takeSmoothedPoses(bool finish = false);
 	const OdometrySmoother* smoother() const { return m_smoother ? &*m_smoother : nullptr; }
+
+	/** Loop closure, at the end of the log: waits for the back-end, optimises what is pending and
+	 * rebuilds the map at the final poses (so the map written matches the final trajectory); the
+	 * keyframes (getCurrentlyBuiltMap()) get their optimised poses. No-op without loop closure. */
+	void finishLoopClosure();
+	/** The final trajectory: each scan's pose as reported online (takeSmoothedPoses() or
+	 * ScanResult::pose, scan order) moved with the keyframe it was tracked from to where the
+	 * optimised graph has it. Without loop closure: `online` as it is. */
+	std::vector<mrpt::math::TPose2D> correctedTrajectory(const std::vector<mrpt::math::TPose2D>& online) const;
+	/** The back-end (nullptr when loop closure is off). */
+	const LoopClosure* loopClosure() const { return m_loops.get(); }
 
 	const ScanResult& lastScanResult() const { return m_last; }
 	mrpt::math::TPose2D currentPose() const { return m_pose; }
@@ -307,6 +321,15 @@ class PerfectMatchSlam
 	double changedFraction(const mrpt::obs::CObservation2DRangeScan& scan) const;
 	void keepReferenceRanges(const mrpt::obs::CObservation2DRangeScan& scan);
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
+	// Loop closure. The front-end's frame moves with each new map (m_frame: the product of the
+	// corrections so far); the smoother and the final trajectory work in the first frame.
+	std::unique_ptr<LoopClosure> m_loops;
+	bool m_trackedSinceKeyframe = true;
+	mrpt::poses::CPose2D m_frame;
+	std::vector<mrpt::poses::CPose2D> m_frames;	 // every m_frame so far, first = identity
+	std::vector<uint32_t> m_scanFrame, m_scanAnchor;  // per scan: index into m_frames, latest keyframe
+	std::vector<mrpt::math::TPose2D> m_nodeInFirstFrame;  // per keyframe
+	void applyMapCorrection(LoopClosure::Update& u, ScanResult& r);
 };
 
 }  // namespace pmslam

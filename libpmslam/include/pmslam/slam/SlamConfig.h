@@ -39,6 +39,7 @@ struct SlamConfig
 {
 	PerfectMatchMatcher::TConfigParams matcher;
 	MapBuilderOptions mapping;
+	LoopClosureOptions loopClosure;
 	LogReaderOptions log;
 	OdometrySource odometrySource = OdometrySource::Auto;
 };

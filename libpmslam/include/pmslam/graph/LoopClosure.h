@@ -1,0 +1,190 @@
+/* pmslam — Perfect Match 2D laser SLAM on MRPT.
+ *
+ * LoopClosure: the back-end. The front-end (PM against the map built so far) cannot undo
+ * the drift accumulated around a long loop; this keeps a pose graph of the keyframes (the
+ * scans inserted into the map), finds and verifies loops, optimises the graph and rebuilds
+ * the map at the corrected poses, so that later scans match a consistent map.
+ *
+ * - Nodes: every keyframe, with its scan points. Edges between consecutive keyframes: the
+ *   front-end's relative pose; information from the match's curvature (the PM Hessian,
+ *   optimistic as it treats the points as independent: divided by informationScale, which
+ *   was calibrated on the benchmark logs against their relations) plus an odometry-like floor
+ *   (a plain corridor leaves the Hessian singular along it). Across a stretch where tracking
+ *   was lost, the edge has only a loose odometry information.
+ * - Loop detection, at most every detectEvery metres driven: the candidates are the keyframes
+ *   at least minTravel metres of path back whose pose lies within the position uncertainty,
+ *   searchRadius + searchRadiusPerMeter x (distance driven since the last closure), up to
+ *   maxSearchRadius (and the same for the heading). The nearest one, and the nearest of a
+ *   different visit, are verified: the keyframe's scan is matched against a local map built from
+ *   the keyframes within localMapExtent metres of path of the candidate, with the wide-basin
+ *   search over the whole uncertainty window and the PM refinement from its best peaks.
+ * - False loops: a verified match must explain the scan (goodness, inlier fraction), be
+ *   unambiguous (no distinct pose within ambiguityMargin of its score: a plain or periodic
+ *   corridor), and agree with agreeingMatches - 1 other verified matches of the last
+ *   agreeWindow metres (the two loops imply the same relative pose between their keyframes as
+ *   the graph does). In the optimisation, loop edges failing a chi-square test are disabled
+ *   (PoseGraph: a hard-redescending robust kernel, re-admitted when they fit again).
+ * - Optimisation: MRPT's sparse Levenberg-Marquardt (PoseGraph), as soon as a loop is
+ *   accepted after a stretch without one, then every optimizeEvery keyframes while loop
+ *   edges keep coming. When a keyframe moved by more than rebuildAbove metres, a new grid is
+ *   built from all keyframes at their optimised poses.
+ * - Online: all of that runs on a worker thread, launched at one keyframe and joined at the
+ *   next (the front-end keeps matching meanwhile against the map it has). Its result is used
+ *   at a fixed point of the scan stream, so a run is repeatable whatever the timing.
+ *
+ * Frames: poses of the robot base in the map frame (m, rad); the first node is fixed. The
+ * front-end's frame follows the graph: when a new map is handed over, the front-end moves by
+ * the rigid correction that puts the newest keyframe where the graph has it.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/poses/CPose2D.h>
+#include <pmslam/graph/PoseGraph.h>
+#include <pmslam/map/OccupancyDistanceGridMap.h>
+#include <pmslam/match/PerfectMatchMatcher.h>
+#include <pmslam/sensor/ScanPoints.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pmslam
+{
+/** INI section [LoopClosure]; every key is documented in config/default.ini. */
+struct LoopClosureOptions : public mrpt::config::CLoadableOptions
+{
+	bool enabled = true;
+	double minTravel = 10.0;  ///< m of path between a keyframe and a loop candidate
+	double searchRadius = 1.0;	///< m: position uncertainty right after a closure
+	double searchRadiusPerMeter = 0.05;	 ///< its growth per m driven since the last closure
+	double maxSearchRadius = 4.0;  ///< m
+	double searchAngle = 10.0 * M_PI / 180;	 ///< rad, as searchRadius
+	double searchAnglePerMeter = 0.5 * M_PI / 180;	///< rad per m
+	double maxSearchAngle = 45.0 * M_PI / 180;	///< rad
+	double detectEvery = 1.0;  ///< m driven between two detection attempts
+	double localMapExtent = 8.0;  ///< m of path on either side of the candidate in its local map
+	double minGoodness = 0.75;	///< of the match against the local map (mean PM likelihood)
+	double minInlierFraction = 0.6;
+	double ambiguityMargin = 0.05;	///< a distinct pose scoring within this of the best: ambiguous
+	unsigned agreeingMatches = 2;  ///< verified matches that must agree before a loop is accepted
+	double agreeWindow = 20.0;	///< m driven over which those matches are looked for
+	double agreeLinear = 0.2;  ///< m: two matches agree when they imply the same relative pose...
+	double agreeAngular = 2.0 * M_PI / 180;	 ///< ...within this (rad)
+	double informationScale = 50.0;	 ///< edge covariance = informationScale x (PM Hessian)^-1
+	double odometrySigmaLinear = 0.02, odometrySigmaPerMeter = 0.05;  ///< floor of consecutive edges (m, m/m)
+	double odometrySigmaAngular = 1.0 * M_PI / 180, odometrySigmaPerRadian = 0.05;	///< (rad, rad/rad)
+	unsigned optimizeEvery = 10;  ///< keyframes between optimisations while loop edges keep coming
+	double rebuildAbove = 0.05;	 ///< m: a keyframe moved more than this (a cell): the map is rebuilt
+	bool background = true;	 ///< the back-end on a worker thread (false: inline, same results)
+
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+	void dumpToTextStream(std::ostream& out) const override;
+};
+
+struct LoopClosureStats
+{
+	std::size_t attempts = 0;  ///< keyframes for which loop candidates were verified
+	std::size_t verified = 0;  ///< matches that passed the verification
+	std::size_t accepted = 0;  ///< loop edges added to the graph (agreeing matches)
+	std::size_t rejected = 0;  ///< loop edges the chi-square test disables at the end
+	std::size_t closures = 0;  ///< loops accepted after a stretch without one
+	std::size_t optimizations = 0, rebuilds = 0;
+	double optimizeSeconds = 0;	 ///< of which in the optimiser
+	double backendSeconds = 0;	///< worker time: detection, optimisation, rebuilds
+	double waitSeconds = 0;	 ///< time the front-end waited for the worker
+};
+
+class LoopClosure
+{
+   public:
+	LoopClosure(const LoopClosureOptions& options, const PerfectMatchMatcher::TConfigParams& matcher,
+				const OccupancyGridUpdateOptions& grid);
+	~LoopClosure();
+	LoopClosure(const LoopClosure&) = delete;
+	LoopClosure& operator=(const LoopClosure&) = delete;
+
+	/** A scan that is in every map built (initialize()'s prior keyframes), at a fixed pose. */
+	void addFixedScan(const mrpt::math::TPose2D& pose, ScanPoints scan);
+
+	/** What the worker handed over: a grid built at the optimised poses, and the rigid
+	 * correction that takes the front-end's frame to it (apply it to every pose the front-end holds). */
+	struct Update
+	{
+		std::shared_ptr<OccupancyDistanceGridMap> grid;
+		mrpt::poses::CPose2D correction;
+	};
+	/** Waits for the worker (if one runs) and takes its result. Call before addKeyframe(). */
+	std::optional<Update> sync();
+
+	/** Adds the keyframe just inserted into the front-end's map at `pose` (front-end frame) and
+	 * starts the worker on it. `hessian`: the curvature of its match (map frame); `tracked`: it
+	 * was matched, and every scan since the previous keyframe was (false: odometry only). */
+	void addKeyframe(const mrpt::math::TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
+					 bool tracked);
+
+	/** End of the log: waits, optimises what is pending, and returns a grid at the final poses when
+	 * they moved since the last map (nullopt: the current map already is). */
+	std::optional<Update> finish();
+
+	const PoseGraph& graph() const { return m_graph; }	// valid after sync() / finish()
+	std::size_t nodeCount() const { return m_nodes.size(); }
+	/** Pose of node `id` in the graph (optimised where it was) and as the front-end first had it. */
+	mrpt::math::TPose2D nodePose(std::size_t id) const { return m_graph.pose(id); }
+	const LoopClosureStats& stats() const { return m_stats; }
+	/** Loop edges accepted so far: (from, to) node ids. */
+	std::vector<std::pair<std::size_t, std::size_t>> loopEdges() const;
+
+   private:
+	struct Node
+	{
+		double travel;	// m of path from the first node
+		double timestamp;
+		std::shared_ptr<const ScanPoints> scan;
+		mrpt::math::TPose2D mapPose;  // where its scan is in the current grid (front-end frame)
+	};
+	struct Match
+	{
+		std::size_t from, to;
+		mrpt::math::TPose2D z;
+		Eigen::Matrix3d information;
+		bool accepted = false;
+	};
+	struct JobResult
+	{
+		std::shared_ptr<OccupancyDistanceGridMap> grid;
+		mrpt::poses::CPose2D correction;
+		double seconds = 0;
+	};
+	JobResult runJob(std::size_t node);	 // on the worker
+	void detect(std::size_t node);
+	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow);
+	bool agree(const Match& a, const Match& b) const;
+	bool optimizeIfDue(std::size_t node, bool force);
+	std::shared_ptr<OccupancyDistanceGridMap> rebuildIfMoved(mrpt::poses::CPose2D& correction);
+	Eigen::Matrix3d odometryInformation(const mrpt::math::TPose2D& z, double scale) const;
+	Eigen::Matrix3d toEdgeFrame(const Eigen::Matrix3d& mapFrameInformation, double fromPhi) const;
+	std::optional<Update> take(JobResult r);
+
+	LoopClosureOptions m_opts;
+	OccupancyGridUpdateOptions m_gridOpts;
+	PerfectMatchMatcher m_matcher;
+	std::vector<std::pair<mrpt::math::TPose2D, ScanPoints>> m_fixed;
+	std::vector<Node> m_nodes;
+	PoseGraph m_graph;
+	std::vector<Match> m_matches;  // verified, of the last agreeWindow metres (and all accepted ones)
+	double m_lastAttempt = -1e18, m_lastClosure = 0;  // travel (m)
+	std::size_t m_sinceOptimization = 0, m_pendingLoops = 0;
+	std::size_t m_checkedEdges = 0;	 // edges before this index were in an optimisation or its check
+	bool m_loopOpen = false;  // a loop was accepted and the graph not yet optimised with it
+	std::future<JobResult> m_job;
+	std::optional<JobResult> m_inlineResult;
+	LoopClosureStats m_stats;
+};
+
+}  // namespace pmslam

@@ -1,0 +1,425 @@
+/* pmslam — the loop-closure back-end (see LoopClosure.h). */
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+#include <pmslam/graph/LoopClosure.h>
+#include <pmslam/match/CorrelativeSearch.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace pmslam
+{
+namespace
+{
+using mrpt::math::TPose2D;
+using mrpt::poses::CPose2D;
+
+TPose2D compose(const TPose2D& a, const TPose2D& b) { return (CPose2D(a) + CPose2D(b)).asTPose(); }
+TPose2D relative(const TPose2D& a, const TPose2D& b) { return (CPose2D(b) - CPose2D(a)).asTPose(); }
+double distance(const TPose2D& a, const TPose2D& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m)
+{
+	mrpt::math::CMatrixDouble33 r;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j) r(i, j) = 0.5 * (m(i, j) + m(j, i));
+	return r;
+}
+
+// A loose information for a loop edge along directions the scan does not fix (a corridor):
+// 1 m and 30 degrees, enough to keep the matrix positive definite without pulling.
+const Eigen::Matrix3d kLoopFloor = Eigen::Vector3d(1.0, 1.0, 1.0 / std::pow(30.0 * M_PI / 180, 2)).asDiagonal();
+}  // namespace
+
+void LoopClosureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	const auto deg = [&](const char* key, double& v) { v = mrpt::DEG2RAD(c.read_double(s, key, mrpt::RAD2DEG(v))); };
+	enabled = c.read_bool(s, "enabled", enabled);
+	minTravel = c.read_double(s, "minTravel", minTravel);
+	searchRadius = c.read_double(s, "searchRadius", searchRadius);
+	searchRadiusPerMeter = c.read_double(s, "searchRadiusPerMeter", searchRadiusPerMeter);
+	maxSearchRadius = c.read_double(s, "maxSearchRadius", maxSearchRadius);
+	deg("searchAngle_deg", searchAngle);
+	deg("searchAnglePerMeter_deg", searchAnglePerMeter);
+	deg("maxSearchAngle_deg", maxSearchAngle);
+	detectEvery = c.read_double(s, "detectEvery", detectEvery);
+	localMapExtent = c.read_double(s, "localMapExtent", localMapExtent);
+	minGoodness = c.read_double(s, "minGoodness", minGoodness);
+	minInlierFraction = c.read_double(s, "minInlierFraction", minInlierFraction);
+	ambiguityMargin = c.read_double(s, "ambiguityMargin", ambiguityMargin);
+	agreeingMatches = static_cast<unsigned>(c.read_int(s, "agreeingMatches", static_cast<int>(agreeingMatches)));
+	agreeWindow = c.read_double(s, "agreeWindow", agreeWindow);
+	agreeLinear = c.read_double(s, "agreeLinear", agreeLinear);
+	deg("agreeAngular_deg", agreeAngular);
+	informationScale = c.read_double(s, "informationScale", informationScale);
+	odometrySigmaLinear = c.read_double(s, "odometrySigmaLinear", odometrySigmaLinear);
+	odometrySigmaPerMeter = c.read_double(s, "odometrySigmaPerMeter", odometrySigmaPerMeter);
+	deg("odometrySigmaAngular_deg", odometrySigmaAngular);
+	odometrySigmaPerRadian = c.read_double(s, "odometrySigmaPerRadian", odometrySigmaPerRadian);
+	optimizeEvery = static_cast<unsigned>(c.read_int(s, "optimizeEvery", static_cast<int>(optimizeEvery)));
+	rebuildAbove = c.read_double(s, "rebuildAbove", rebuildAbove);
+	background = c.read_bool(s, "background", background);
+	auto need = [&](bool ok, const std::string& what) {
+		if (!ok) throw std::invalid_argument("[" + s + "] " + what);
+	};
+	need(minTravel > 0, "minTravel: expected > 0 m");
+	need(searchRadius >= 0 && searchRadiusPerMeter >= 0 && maxSearchRadius >= searchRadius && maxSearchRadius <= 20,
+		 "searchRadius, searchRadiusPerMeter, maxSearchRadius: expected 0 <= searchRadius <= maxSearchRadius <= 20 m, growth >= 0");
+	need(searchAngle >= 0 && searchAnglePerMeter >= 0 && maxSearchAngle >= searchAngle && maxSearchAngle <= M_PI + 1e-9,
+		 "searchAngle_deg, searchAnglePerMeter_deg, maxSearchAngle_deg: expected 0 <= searchAngle <= maxSearchAngle <= 180");
+	need(detectEvery >= 0, "detectEvery: expected >= 0 m");
+	need(localMapExtent > 0 && localMapExtent <= 100, "localMapExtent: expected 0..100 m");
+	need(minGoodness >= 0 && minGoodness <= 1, "minGoodness: expected 0..1");
+	need(minInlierFraction >= 0 && minInlierFraction <= 1, "minInlierFraction: expected 0..1");
+	need(ambiguityMargin >= 0 && ambiguityMargin <= 1, "ambiguityMargin: expected 0..1");
+	need(agreeingMatches >= 1 && agreeingMatches <= 20, "agreeingMatches: expected 1..20");
+	need(agreeWindow > 0, "agreeWindow: expected > 0 m");
+	need(agreeLinear > 0 && agreeAngular > 0, "agreeLinear, agreeAngular_deg: expected > 0");
+	need(informationScale > 0, "informationScale: expected > 0");
+	need(odometrySigmaLinear > 0 && odometrySigmaPerMeter >= 0 && odometrySigmaAngular > 0 && odometrySigmaPerRadian >= 0,
+		 "odometrySigma*: expected > 0 (per-metre and per-radian terms >= 0)");
+	need(optimizeEvery >= 1, "optimizeEvery: expected >= 1 keyframe");
+	need(rebuildAbove >= 0, "rebuildAbove: expected >= 0 m");
+}
+
+void LoopClosureOptions::dumpToTextStream(std::ostream& out) const
+{
+	out << "enabled = " << enabled << "\nminTravel = " << minTravel << "\nsearchRadius = " << searchRadius
+		<< "\nsearchRadiusPerMeter = " << searchRadiusPerMeter << "\nmaxSearchRadius = " << maxSearchRadius
+		<< "\nsearchAngle_deg = " << mrpt::RAD2DEG(searchAngle)
+		<< "\nsearchAnglePerMeter_deg = " << mrpt::RAD2DEG(searchAnglePerMeter)
+		<< "\nmaxSearchAngle_deg = " << mrpt::RAD2DEG(maxSearchAngle) << "\ndetectEvery = " << detectEvery
+		<< "\nlocalMapExtent = " << localMapExtent << "\nminGoodness = " << minGoodness
+		<< "\nminInlierFraction = " << minInlierFraction << "\nambiguityMargin = " << ambiguityMargin
+		<< "\nagreeingMatches = " << agreeingMatches << "\nagreeWindow = " << agreeWindow
+		<< "\nagreeLinear = " << agreeLinear << "\nagreeAngular_deg = " << mrpt::RAD2DEG(agreeAngular)
+		<< "\ninformationScale = " << informationScale << "\nodometrySigmaLinear = " << odometrySigmaLinear
+		<< "\nodometrySigmaPerMeter = " << odometrySigmaPerMeter
+		<< "\nodometrySigmaAngular_deg = " << mrpt::RAD2DEG(odometrySigmaAngular)
+		<< "\nodometrySigmaPerRadian = " << odometrySigmaPerRadian << "\noptimizeEvery = " << optimizeEvery
+		<< "\nrebuildAbove = " << rebuildAbove << "\nbackground = " << background << "\n";
+}
+
+LoopClosure::LoopClosure(const LoopClosureOptions& options, const PerfectMatchMatcher::TConfigParams& matcher,
+						 const OccupancyGridUpdateOptions& grid)
+	: m_opts(options), m_gridOpts(grid), m_matcher(matcher)
+{
+}
+
+LoopClosure::~LoopClosure()
+{
+	if (m_job.valid()) m_job.wait();
+}
+
+void LoopClosure::addFixedScan(const TPose2D& pose, ScanPoints scan) { m_fixed.emplace_back(pose, std::move(scan)); }
+
+Eigen::Matrix3d LoopClosure::odometryInformation(const TPose2D& z, double scale) const
+{
+	const double sl = scale * (m_opts.odometrySigmaLinear + m_opts.odometrySigmaPerMeter * std::hypot(z.x, z.y));
+	const double sa = scale * (m_opts.odometrySigmaAngular + m_opts.odometrySigmaPerRadian * std::abs(z.phi));
+	return Eigen::Vector3d(1 / (sl * sl), 1 / (sl * sl), 1 / (sa * sa)).asDiagonal();
+}
+
+Eigen::Matrix3d LoopClosure::toEdgeFrame(const Eigen::Matrix3d& I, double fromPhi) const
+{
+	// A change dz of the edge (in the frame of its first node) moves the second node by R dz in
+	// the map frame, where the matcher's curvature lives.
+	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+	R(0, 0) = std::cos(fromPhi), R(0, 1) = -std::sin(fromPhi);
+	R(1, 0) = std::sin(fromPhi), R(1, 1) = std::cos(fromPhi);
+	Eigen::Matrix3d out = R.transpose() * I * R;
+	return out.allFinite() ? out : Eigen::Matrix3d::Zero();
+}
+
+void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
+							  bool tracked)
+{
+	const std::size_t id = m_nodes.size();
+	double travel = 0;
+	if (id == 0)
+		m_graph.addNode(id, pose);
+	else
+	{
+		const Node& prev = m_nodes.back();
+		const TPose2D z = relative(prev.mapPose, pose);
+		travel = prev.travel + std::hypot(z.x, z.y);
+		// Across lost tracking the front-end's relative pose is odometry alone: loose.
+		Eigen::Matrix3d info = odometryInformation(z, tracked ? 1.0 : 5.0);
+		if (tracked)
+		{
+			const Eigen::Matrix3d H = hessian.allFinite() ? hessian : Eigen::Matrix3d::Zero();
+			info += toEdgeFrame(H / m_opts.informationScale, prev.mapPose.phi);
+		}
+		// The initial guess follows the previous node where the graph has it.
+		m_graph.addNode(id, compose(m_graph.pose(id - 1), z));
+		m_graph.addEdge(id - 1, id, z, toMrpt(info));
+	}
+	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose});
+	if (m_opts.background)
+		m_job = std::async(std::launch::async, [this, id] { return runJob(id); });
+	else
+		m_inlineResult = runJob(id);
+}
+
+std::optional<LoopClosure::Update> LoopClosure::sync()
+{
+	if (m_job.valid())
+	{
+		const auto t0 = std::chrono::steady_clock::now();
+		JobResult r = m_job.get();
+		m_stats.waitSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+		return take(std::move(r));
+	}
+	if (m_inlineResult)
+	{
+		JobResult r = std::move(*m_inlineResult);
+		m_inlineResult.reset();
+		return take(std::move(r));
+	}
+	return std::nullopt;
+}
+
+std::optional<LoopClosure::Update> LoopClosure::take(JobResult r)
+{
+	m_stats.backendSeconds += r.seconds;
+	if (!r.grid) return std::nullopt;
+	return Update{std::move(r.grid), r.correction};
+}
+
+std::optional<LoopClosure::Update> LoopClosure::finish()
+{
+	std::optional<Update> u = sync();
+	const auto t0 = std::chrono::steady_clock::now();
+	std::optional<Update> last;
+	if (m_pendingLoops > 0 && optimizeIfDue(m_nodes.size() - 1, true))
+	{
+		JobResult r;
+		r.grid = rebuildIfMoved(r.correction);
+		last = take(std::move(r));
+	}
+	m_stats.backendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	m_stats.rejected = 0;
+	for (const auto& e : m_graph.edges()) m_stats.rejected += e.kind == PoseGraphEdgeKind::Loop && e.rejected;
+	if (!last) return u;
+	if (u) last->correction = last->correction + u->correction;  // the first, then the second
+	return last;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> LoopClosure::loopEdges() const
+{
+	std::vector<std::pair<std::size_t, std::size_t>> out;
+	for (const auto& e : m_graph.edges())
+		if (e.kind == PoseGraphEdgeKind::Loop && !e.rejected) out.emplace_back(e.from, e.to);
+	return out;
+}
+
+LoopClosure::JobResult LoopClosure::runJob(std::size_t node)
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	JobResult r;
+	detect(node);
+	++m_sinceOptimization;
+	if (optimizeIfDue(node, m_loopOpen)) r.grid = rebuildIfMoved(r.correction);
+	r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return r;
+}
+
+void LoopClosure::detect(std::size_t node)
+{
+	const Node& n = m_nodes[node];
+	if (n.travel - m_lastAttempt < m_opts.detectEvery) return;
+	const TPose2D x = m_graph.pose(node);
+	const double since = n.travel - m_lastClosure;
+	// The position uncertainty relative to a node grows with the path driven since then, and
+	// since the last closure (which anchored the graph).
+	const auto radius = [&](double back) {
+		return std::min(m_opts.maxSearchRadius, m_opts.searchRadius + m_opts.searchRadiusPerMeter * std::min(since, back));
+	};
+	const auto angle = [&](double back) {
+		return std::min(m_opts.maxSearchAngle, m_opts.searchAngle + m_opts.searchAnglePerMeter * std::min(since, back));
+	};
+	// The nearest candidate, and the nearest of another visit of the same place.
+	std::size_t best[2] = {SIZE_MAX, SIZE_MAX};
+	double bestD[2] = {1e18, 1e18};
+	for (std::size_t i = 0; i < node; ++i)
+	{
+		const double back = n.travel - m_nodes[i].travel;
+		if (back < m_opts.minTravel) break;	 // travel grows with the id
+		const double d = distance(m_graph.pose(i), x);
+		if (d > radius(back) || d >= bestD[1]) continue;
+		if (d < bestD[0])
+		{
+			if (best[0] != SIZE_MAX && std::abs(m_nodes[best[0]].travel - m_nodes[i].travel) > 2 * m_opts.localMapExtent)
+				best[1] = best[0], bestD[1] = bestD[0];
+			best[0] = i, bestD[0] = d;
+		}
+		else if (std::abs(m_nodes[best[0]].travel - m_nodes[i].travel) > 2 * m_opts.localMapExtent)
+			best[1] = i, bestD[1] = d;
+	}
+	if (best[0] == SIZE_MAX) return;
+	m_lastAttempt = n.travel;
+	++m_stats.attempts;
+	// Matches of the last agreeWindow metres that were not accepted age out.
+	m_matches.erase(std::remove_if(m_matches.begin(), m_matches.end(),
+								   [&](const Match& m) {
+									   return !m.accepted && n.travel - m_nodes[m.to].travel > m_opts.agreeWindow;
+								   }),
+					m_matches.end());
+	for (std::size_t c : best)
+	{
+		if (c == SIZE_MAX) continue;
+		const double back = n.travel - m_nodes[c].travel;
+		std::optional<Match> m = verify(node, c, radius(back), angle(back));
+		if (!m) continue;
+		++m_stats.verified;
+		// Accepted when enough recent matches agree with it (and then they are accepted too).
+		std::vector<std::size_t> agreeing;
+		for (std::size_t i = 0; i < m_matches.size(); ++i)
+			if (n.travel - m_nodes[m_matches[i].to].travel <= m_opts.agreeWindow && agree(m_matches[i], *m))
+				agreeing.push_back(i);
+		m_matches.push_back(*m);
+		if (agreeing.size() + 1 < m_opts.agreeingMatches) continue;
+		agreeing.push_back(m_matches.size() - 1);
+		for (std::size_t i : agreeing)
+		{
+			Match& a = m_matches[i];
+			if (a.accepted) continue;
+			a.accepted = true;
+			m_graph.addEdge(a.from, a.to, a.z, toMrpt(a.information), PoseGraphEdgeKind::Loop);
+			++m_stats.accepted;
+			++m_pendingLoops;
+		}
+		if (since > m_opts.minTravel)
+		{
+			++m_stats.closures;
+			m_loopOpen = true;	// a new loop: optimise now
+		}
+		m_lastClosure = n.travel;
+	}
+}
+
+std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::size_t candidate, double linWindow,
+													  double angWindow)
+{
+	const Node& n = m_nodes[node];
+	const double centre = m_nodes[candidate].travel;
+	// The candidate's neighbourhood, none of it recent.
+	OccupancyDistanceGridMap local(m_gridOpts);
+	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
+	std::size_t lo = candidate;
+	while (lo > 0 && centre - m_nodes[lo - 1].travel <= m_opts.localMapExtent) --lo;
+	for (std::size_t i = lo; i < node; ++i)
+	{
+		if (m_nodes[i].travel - centre > m_opts.localMapExtent || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
+		scans.emplace_back(m_graph.pose(i), m_nodes[i].scan.get());
+	}
+	local.insertScans(scans);
+	const DynamicDistanceMap& dm = local.distanceMap();
+	const std::vector<mrpt::math::TPoint2Df>& hits = n.scan->hits;
+	const TPose2D x = m_graph.pose(node);
+	struct Refined
+	{
+		TPose2D pose;
+		PerfectMatchMatcher::MatchInfo info;
+	};
+	std::vector<Refined> refined;
+	for (const auto& s : CorrelativeSearch::coarseToFine(dm, hits, x, linWindow, angWindow, 4))
+	{
+		Refined r;
+		r.pose = m_matcher.alignPoints(dm, hits, s.pose, &r.info);
+		refined.push_back(r);
+	}
+	if (refined.empty()) return std::nullopt;
+	std::sort(refined.begin(), refined.end(),
+			  [](const Refined& a, const Refined& b) { return a.info.goodness > b.info.goodness; });
+	const Refined& best = refined.front();
+	if (best.info.goodness < m_opts.minGoodness || best.info.inlierFraction < m_opts.minInlierFraction)
+		return std::nullopt;
+	// Another pose, clearly distinct, that explains the scan nearly as well: a corridor or a
+	// repetitive place, where the best score does not say which pose is right.
+	for (std::size_t i = 1; i < refined.size(); ++i)
+	{
+		const Refined& o = refined[i];
+		const bool distinct = distance(o.pose, best.pose) > 0.3 ||
+							  std::abs(mrpt::math::wrapToPi(o.pose.phi - best.pose.phi)) > 3.0 * M_PI / 180;
+		if (distinct && o.info.goodness > best.info.goodness - m_opts.ambiguityMargin) return std::nullopt;
+	}
+	Match m;
+	m.from = candidate;
+	m.to = node;
+	const TPose2D xc = m_graph.pose(candidate);
+	m.z = relative(xc, best.pose);
+	m.information = toEdgeFrame(best.info.hessian / m_opts.informationScale, xc.phi) + kLoopFloor;
+	return m;
+}
+
+bool LoopClosure::agree(const Match& a, const Match& b) const
+{
+	// The relative pose between the two matched keyframes, as the graph has it and as the two
+	// loops put them: a wrong loop disagrees with a right one (and with another wrong one).
+	const TPose2D viaGraph = relative(m_graph.pose(a.to), m_graph.pose(b.to));
+	const TPose2D viaLoops = relative(compose(m_graph.pose(a.from), a.z), compose(m_graph.pose(b.from), b.z));
+	const TPose2D d = relative(viaGraph, viaLoops);
+	return std::hypot(d.x, d.y) <= m_opts.agreeLinear && std::abs(d.phi) <= m_opts.agreeAngular;
+}
+
+bool LoopClosure::optimizeIfDue(std::size_t, bool force)
+{
+	if (m_pendingLoops == 0 || (!force && m_sinceOptimization < m_opts.optimizeEvery)) return false;
+	if (!force)
+	{
+		// Loop edges the graph already satisfies (chi-square within the test's quantile: a revisit
+		// of a place the graph has right) would change nothing: they wait for the next
+		// optimisation that is needed anyway.
+		double worst = 0;
+		const auto& edges = m_graph.edges();
+		for (std::size_t i = m_checkedEdges; i < edges.size(); ++i)
+			if (edges[i].kind == PoseGraphEdgeKind::Loop) worst = std::max(worst, m_graph.edgeChi2(i));
+		m_sinceOptimization = 0;
+		m_checkedEdges = edges.size();
+		if (worst <= PoseGraphOptions().chi2Threshold)
+		{
+			m_pendingLoops = 0;
+			return false;
+		}
+	}
+	const PoseGraphStats st = m_graph.optimize();
+	m_stats.optimizeSeconds += st.seconds;
+	++m_stats.optimizations;
+	m_pendingLoops = 0;
+	m_checkedEdges = m_graph.edges().size();
+	m_sinceOptimization = 0;
+	m_loopOpen = false;
+	return true;
+}
+
+std::shared_ptr<OccupancyDistanceGridMap> LoopClosure::rebuildIfMoved(CPose2D& correction)
+{
+	// How far any scan moved: its origin, plus its heading change at a 5 m lever arm.
+	double moved = 0;
+	for (std::size_t i = 0; i < m_nodes.size(); ++i)
+	{
+		const TPose2D& p = m_graph.pose(i);
+		const TPose2D& q = m_nodes[i].mapPose;
+		moved = std::max(moved, distance(p, q) + 5.0 * std::abs(mrpt::math::wrapToPi(p.phi - q.phi)));
+	}
+	if (moved <= m_opts.rebuildAbove) return nullptr;
+	auto grid = std::make_shared<OccupancyDistanceGridMap>(m_gridOpts);
+	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
+	scans.reserve(m_fixed.size() + m_nodes.size());
+	for (const auto& [pose, scan] : m_fixed) scans.emplace_back(pose, &scan);
+	for (std::size_t i = 0; i < m_nodes.size(); ++i) scans.emplace_back(m_graph.pose(i), m_nodes[i].scan.get());
+	grid->insertScans(scans);
+	// The front-end moves with the newest keyframe.
+	const Node& last = m_nodes.back();
+	correction = CPose2D(m_graph.pose(m_nodes.size() - 1)) + (-CPose2D(last.mapPose));
+	for (std::size_t i = 0; i < m_nodes.size(); ++i) m_nodes[i].mapPose = m_graph.pose(i);
+	++m_stats.rebuilds;
+	return grid;
+}
+
+}  // namespace pmslam
