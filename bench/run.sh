@@ -121,10 +121,11 @@ run_system() {
   note "$d: $sys done in $(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.0f", b-a}') s: $(cut -d' ' -f1-4 "$out/row")"
 }
 
-systems=(pmslam icp-tuned icp-stock)
+systems=(pmslam pmslam-nolc icp-tuned icp-stock)
 label() {
   case $1 in
     pmslam) echo "pmslam (Perfect Match)";;
+    pmslam-nolc) echo "pmslam without loop closure (LoopClosure.enabled=false)";;
     icp-tuned) echo "MRPT ICP-SLAM, tuned (config/icp-slam-tuned.ini)";;
     icp-stock) echo "MRPT ICP-SLAM, stock (icp-slam_demo_classic.ini)";;
   esac
@@ -141,6 +142,7 @@ for d in "${present[@]}"; do
   cfg_args=()
   [ -z "${pm_config_file[$d]}" ] || cfg_args=(--config "${pm_config_file[$d]}")
   run_system "$d" pmslam 4 -- "$bin/pm-slam-app" "${cfg_args[@]}" --no-progress "$log"
+  run_system "$d" pmslam-nolc 4 -- "$bin/pm-slam-app" "${cfg_args[@]}" --no-progress --set LoopClosure.enabled=false "$log"
   run_system "$d" icp-tuned 2 -- "$bin/pm-icp-slam" --config "$tuned_config" "$log"
   stock_cap=()
   [ "$stock_max_scans" = 0 ] || stock_cap=(--max-scans "$stock_max_scans")
@@ -188,7 +190,7 @@ note "plotting"
 plot_term='set terminal pngcairo size 900,650 font "Sans,10" noenhanced'
 gnuplot -e "$plot_term" >/dev/null 2>&1 || plot_term='set terminal png size 900,650 noenhanced'
 join() { local IFS=','; echo "$*"; }
-color() { case $1 in pmslam) echo '#1f77b4';; icp-tuned) echo '#d62728';; icp-stock) echo '#7f7f7f';; esac; }
+color() { case $1 in pmslam) echo '#1f77b4';; pmslam-nolc) echo '#2ca02c';; icp-tuned) echo '#d62728';; icp-stock) echo '#7f7f7f';; esac; }
 
 for d in "${present[@]}"; do
   traj_plot=() err_t=() err_r=() time_plot=()
@@ -290,6 +292,15 @@ if ! git -C "$repo" diff --quiet HEAD -- . ":(exclude)bench/results" 2>/dev/null
                name, cap, $7, $1, $2, rel, $3, $4, $8, $9, $10, rt, ratio, $13 }' "$row"
     done
     echo
+    if [ -f "$work/$d/pmslam/stdout.txt" ]; then
+      echo "pmslam's own summary (ms/scan above is the front-end: match + map update; the back-end runs on its thread"
+      echo "and the front-end's waits for it are in the SLAM time):"
+      echo
+      echo '```'
+      grep -E "loop closure:|SLAM time" "$work/$d/pmslam/stdout.txt" | sed 's/^ *//'
+      echo '```'
+      echo
+    fi
     echo "![trajectories](${d}_trajectory.png) ![errors](${d}_errors.png) ![time per scan](${d}_time_per_scan.png)"
     echo
   done

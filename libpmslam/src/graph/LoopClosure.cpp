@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 
@@ -51,6 +53,7 @@ void LoopClosureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 	minGoodness = c.read_double(s, "minGoodness", minGoodness);
 	minInlierFraction = c.read_double(s, "minInlierFraction", minInlierFraction);
 	ambiguityMargin = c.read_double(s, "ambiguityMargin", ambiguityMargin);
+	maxUnexploredFraction = c.read_double(s, "maxUnexploredFraction", maxUnexploredFraction);
 	agreeingMatches = static_cast<unsigned>(c.read_int(s, "agreeingMatches", static_cast<int>(agreeingMatches)));
 	agreeWindow = c.read_double(s, "agreeWindow", agreeWindow);
 	agreeLinear = c.read_double(s, "agreeLinear", agreeLinear);
@@ -76,6 +79,7 @@ void LoopClosureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 	need(minGoodness >= 0 && minGoodness <= 1, "minGoodness: expected 0..1");
 	need(minInlierFraction >= 0 && minInlierFraction <= 1, "minInlierFraction: expected 0..1");
 	need(ambiguityMargin >= 0 && ambiguityMargin <= 1, "ambiguityMargin: expected 0..1");
+	need(maxUnexploredFraction >= 0 && maxUnexploredFraction <= 1, "maxUnexploredFraction: expected 0..1");
 	need(agreeingMatches >= 1 && agreeingMatches <= 20, "agreeingMatches: expected 1..20");
 	need(agreeWindow > 0, "agreeWindow: expected > 0 m");
 	need(agreeLinear > 0 && agreeAngular > 0, "agreeLinear, agreeAngular_deg: expected > 0");
@@ -95,6 +99,7 @@ void LoopClosureOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nmaxSearchAngle_deg = " << mrpt::RAD2DEG(maxSearchAngle) << "\ndetectEvery = " << detectEvery
 		<< "\nlocalMapExtent = " << localMapExtent << "\nminGoodness = " << minGoodness
 		<< "\nminInlierFraction = " << minInlierFraction << "\nambiguityMargin = " << ambiguityMargin
+		<< "\nmaxUnexploredFraction = " << maxUnexploredFraction
 		<< "\nagreeingMatches = " << agreeingMatches << "\nagreeWindow = " << agreeWindow
 		<< "\nagreeLinear = " << agreeLinear << "\nagreeAngular_deg = " << mrpt::RAD2DEG(agreeAngular)
 		<< "\ninformationScale = " << informationScale << "\nodometrySigmaLinear = " << odometrySigmaLinear
@@ -307,8 +312,11 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 {
 	const Node& n = m_nodes[node];
 	const double centre = m_nodes[candidate].travel;
-	// The candidate's neighbourhood, none of it recent.
-	OccupancyDistanceGridMap local(m_gridOpts);
+	// The candidate's neighbourhood, none of it recent. Its distance layer reaches as far as the
+	// coarse lattice steps (coarseToFine), so that a coarse pose next to the right one still scores.
+	OccupancyGridUpdateOptions localOpts = m_gridOpts;
+	localOpts.maxDistance = std::max(localOpts.maxDistance, std::min(2.0, 1.5 * linWindow / 8));
+	OccupancyDistanceGridMap local(localOpts);
 	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
 	std::size_t lo = candidate;
 	while (lo > 0 && centre - m_nodes[lo - 1].travel <= m_opts.localMapExtent) --lo;
@@ -338,6 +346,13 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 			  [](const Refined& a, const Refined& b) { return a.info.goodness > b.info.goodness; });
 	const Refined& best = refined.front();
 	if (best.info.goodness < m_opts.minGoodness || best.info.inlierFraction < m_opts.minInlierFraction)
+		return std::nullopt;
+	// A revisit stands where the earlier visit saw free space, and sees what it saw. A pose in a
+	// place the local map never observed (inside a block, beyond its walls) is a look-alike fit to
+	// the part of the map there is, whatever its score.
+	if (local.isUnexplored(best.pose.x, best.pose.y) ||
+		local.getPos(static_cast<float>(best.pose.x), static_cast<float>(best.pose.y)) < 0.5f ||
+		local.unexploredFraction(hits, best.pose) > m_opts.maxUnexploredFraction)
 		return std::nullopt;
 	// Another pose, clearly distinct, that explains the scan nearly as well: a corridor or a
 	// repetitive place, where the best score does not say which pose is right.

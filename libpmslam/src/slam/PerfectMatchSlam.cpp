@@ -408,10 +408,12 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		}
 		if (insert)
 		{
-			const auto t0 = Clock::now();
 			// The back-end's work since the last keyframe: a new map at corrected poses, if any.
+			const auto tw = Clock::now();
 			if (m_loops)
 				if (auto u = m_loops->sync()) applyMapCorrection(*u, r);
+			const auto t0 = Clock::now();
+			r.backendWaitMs = std::chrono::duration<double, std::milli>(t0 - tw).count();
 			r.cellsFlipped = m_grid->insertScan(pts, r.pose);
 			if (m_referenceRanges.empty()) keepReferenceRanges(scan);
 			r.updateMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

@@ -101,6 +101,7 @@ const Key kKeys[] = {
 	{"LoopClosure", "minGoodness", Type::Number},
 	{"LoopClosure", "minInlierFraction", Type::Number},
 	{"LoopClosure", "ambiguityMargin", Type::Number},
+	{"LoopClosure", "maxUnexploredFraction", Type::Number},
 	{"LoopClosure", "agreeingMatches", Type::Integer},
 	{"LoopClosure", "agreeWindow", Type::Number},
 	{"LoopClosure", "agreeLinear", Type::Number},

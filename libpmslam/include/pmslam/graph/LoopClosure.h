@@ -20,7 +20,8 @@
  *   search over the whole uncertainty window and the PM refinement from its best peaks.
  * - False loops: a verified match must explain the scan (goodness, inlier fraction), be
  *   unambiguous (no distinct pose within ambiguityMargin of its score: a plain or periodic
- *   corridor), and agree with agreeingMatches - 1 other verified matches of the last
+ *   corridor), put the robot where the local map saw free space and the scan where it saw
+ *   something (maxUnexploredFraction: a look-alike fit to part of the map fails this), and agree with agreeingMatches - 1 other verified matches of the last
  *   agreeWindow metres (the two loops imply the same relative pose between their keyframes as
  *   the graph does). In the optimisation, loop edges failing a chi-square test are disabled
  *   (PoseGraph: a hard-redescending robust kernel, re-admitted when they fit again).
@@ -72,6 +73,9 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	double minGoodness = 0.75;	///< of the match against the local map (mean PM likelihood)
 	double minInlierFraction = 0.6;
 	double ambiguityMargin = 0.05;	///< a distinct pose scoring within this of the best: ambiguous
+	/** At most this fraction of the scan may land where the local map saw nothing, and the robot
+	 * must stand where it saw free space: a revisit sees what the earlier visit saw. */
+	double maxUnexploredFraction = 0.3;
 	unsigned agreeingMatches = 2;  ///< verified matches that must agree before a loop is accepted
 	double agreeWindow = 20.0;	///< m driven over which those matches are looked for
 	double agreeLinear = 0.2;  ///< m: two matches agree when they imply the same relative pose...

@@ -182,6 +182,9 @@ class PerfectMatchSlam
 		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundUnexplored)
 		bool mapCorrected = false;	///< a loop closure's new map was handed over at this scan (poses moved)
 		double matchMs = 0, updateMs = 0;  ///< wall time of matching and of the map update
+		/** Wall time waiting for the loop-closure back-end (at keyframes, while it still works on the
+		 * previous one) and taking over its new map: not front-end work. */
+		double backendWaitMs = 0;
 		std::size_t cellsFlipped = 0;
 		PerfectMatchMatcher::MatchInfo info;
 	};
