@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <functional>
 #include <random>
 
 #include "RingWorld.h"
@@ -136,4 +137,98 @@ TEST(LoopClosure, RingWithTheDefaultFrontEndMostlyCloses)
 				eo.mean, eo.max);
 	EXPECT_GT(eo.mean, 1.0);
 	EXPECT_LT(ew.mean, eo.mean / 10);
+}
+
+namespace
+{
+// Two parallel corridors 3.5 m apart, joined at their east end: the same walls, the same kind of
+// pilasters, but at different places. Driven east along A, round the end of the dividing wall and
+// west along B, nothing is ever revisited; yet a scan in B, moved 3.5 m south, lies on A's walls
+// all along, and the search window (4 m after 60 m of path) reaches that far.
+SyntheticWorld twinCorridors()
+{
+	SyntheticWorld w;
+	w.addBox(0, -1.5, 50, 5.0);	 // outer walls
+	w.addBox(0, 1.5, 46, 2.0);	// the dividing wall, open at the east end
+	auto pilasters = [&](double y, double into, std::initializer_list<double> xs) {
+		for (double x : xs) w.addBox(x, std::min(y, y + into), x + 0.4, std::max(y, y + into));
+	};
+	pilasters(-1.5, 0.3, {3, 7, 10, 14, 18, 21, 25, 30, 33, 37, 41});  // corridor A, south wall
+	pilasters(1.5, -0.3, {5, 9, 12, 16, 23, 27, 35, 39});	// corridor A, north wall
+	pilasters(2.0, 0.3, {4, 8, 11, 15, 20, 24, 28, 32, 36, 40, 44});  // corridor B, south wall
+	pilasters(5.0, -0.3, {6, 13, 17, 19, 26, 31, 34, 42});	// corridor B, north wall
+	return w;
+}
+
+std::vector<TPose2D> twinPath()
+{
+	std::vector<TPose2D> p;
+	for (double x = 2; x < 46; x += 0.1) p.push_back({x, 0, 0});
+	for (double t = -M_PI / 2; t < M_PI / 2; t += 0.1 / 1.75) p.push_back({46 + 1.75 * std::cos(t), 1.75 + 1.75 * std::sin(t), t + M_PI / 2});
+	for (double x = 46; x > 2; x -= 0.1) p.push_back({x, 3.5, M_PI});
+	return p;
+}
+
+struct TwinRun
+{
+	pmslam::LoopClosureStats stats;
+	double maxError = 0;  // of the final trajectory against the truth (m), relative to the first pose
+};
+
+TwinRun driveTwins(const std::function<void(pmslam::LoopClosureOptions&)>& configure)
+{
+	const SyntheticWorld world = twinCorridors();
+	const auto truth = twinPath();
+	std::mt19937 rng(5);
+	std::normal_distribution<double> n(0, 1);
+	pmslam::PerfectMatchSlam slam;
+	configure(slam.LC_options);
+	slam.initialize();
+	CPose2D odo;
+	std::vector<TPose2D> online;
+	for (std::size_t k = 0; k < truth.size(); ++k)
+	{
+		if (k)
+		{
+			const CPose2D d = CPose2D(truth[k]) - CPose2D(truth[k - 1]);
+			odo = odo + CPose2D(d.x() * (1.01 + 0.005 * n(rng)), d.y(), d.phi() + mrpt::DEG2RAD(0.2) * n(rng));
+		}
+		const double t = 1000 + 0.1 * double(k);
+		auto scan = world.scan(truth[k], 181, M_PI, 30.0, 0.01, unsigned(k + 1));
+		scan.timestamp = mrpt::Clock::fromDouble(t);
+		slam.processOdometry(odo.asTPose(), t);
+		online.push_back(slam.processScan(scan).pose);
+		for (const auto& [i, p] : slam.takeSmoothedPoses()) online[i] = p;
+	}
+	for (const auto& [i, p] : slam.takeSmoothedPoses(true)) online[i] = p;
+	slam.finishLoopClosure();
+	const auto final = slam.correctedTrajectory(online);
+	TwinRun r;
+	r.stats = slam.loopClosure()->stats();
+	for (std::size_t k = 0; k < truth.size(); ++k)
+	{
+		const CPose2D t = CPose2D(truth[k]) - CPose2D(truth[0]);
+		r.maxError = std::max(r.maxError, std::hypot(final[k].x - t.x(), final[k].y - t.y()));
+	}
+	return r;
+}
+}  // namespace
+
+TEST(LoopClosure, LookAlikeCorridorIsNoLoop)
+{
+	// A detector that trusts any good match (no ambiguity test, no agreement, no free-space test)
+	// closes B onto A: the test drives the case.
+	const TwinRun naive = driveTwins([](pmslam::LoopClosureOptions& o) {
+		o.ambiguityMargin = 0;
+		o.agreeingMatches = 1;
+		o.maxUnexploredFraction = 1;
+		o.maxInFreeSpace = 1;
+	});
+	const TwinRun guarded = driveTwins([](pmslam::LoopClosureOptions&) {});
+	std::printf("look-alike corridor: naive detector %zu loop edges, max error %.2f m; default %zu loop edges (%zu verified), "
+				"max error %.2f m\n",
+				naive.stats.accepted, naive.maxError, guarded.stats.accepted, guarded.stats.verified, guarded.maxError);
+	EXPECT_GT(naive.stats.accepted, 0u);
+	EXPECT_EQ(guarded.stats.accepted, 0u);
+	EXPECT_LT(guarded.maxError, 0.3);
 }

@@ -266,6 +266,24 @@ std::size_t OccupancyDistanceGridMap::memoryBytes() const
 	return m_map.capacity() * sizeof(cellType) + m_stamp.capacity() * sizeof(m_stamp[0]) + m_distance.memoryBytes();
 }
 
+double OccupancyDistanceGridMap::inFreeSpaceFraction(const std::vector<mrpt::math::TPoint2Df>& points,
+													  const mrpt::math::TPose2D& pose, double margin) const
+{
+	if (points.empty()) return 0.0;
+	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
+	std::size_t n = 0;
+	for (const auto& p : points)
+	{
+		const double wx = pose.x + c * p.x - s * p.y, wy = pose.y + s * p.x + c * p.y;
+		const int ix = x2idx(wx), iy = y2idx(wy);
+		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) continue;
+		const auto cell = getRawMap()[std::size_t(iy) * getSizeX() + ix];
+		if (cell <= 0) continue;  // unexplored or occupied
+		if (m_distance.cellDistance(m_distance.worldToCell(wx), m_distance.worldToCell(wy)) > margin) ++n;
+	}
+	return double(n) / double(points.size());
+}
+
 std::vector<std::size_t> OccupancyDistanceGridMap::informativePoints(const std::vector<mrpt::math::TPoint2Df>& points,
 																	 const mrpt::math::TPose2D& pose) const
 {

@@ -102,6 +102,7 @@ const Key kKeys[] = {
 	{"LoopClosure", "minInlierFraction", Type::Number},
 	{"LoopClosure", "ambiguityMargin", Type::Number},
 	{"LoopClosure", "maxUnexploredFraction", Type::Number},
+	{"LoopClosure", "maxInFreeSpace", Type::Number},
 	{"LoopClosure", "agreeingMatches", Type::Integer},
 	{"LoopClosure", "agreeWindow", Type::Number},
 	{"LoopClosure", "agreeLinear", Type::Number},

@@ -21,7 +21,8 @@
  * - False loops: a verified match must explain the scan (goodness, inlier fraction), be
  *   unambiguous (no distinct pose within ambiguityMargin of its score: a plain or periodic
  *   corridor), put the robot where the local map saw free space and the scan where it saw
- *   something (maxUnexploredFraction: a look-alike fit to part of the map fails this), and agree with agreeingMatches - 1 other verified matches of the last
+ *   something (maxUnexploredFraction: a look-alike fit to part of the map fails this), put
+ *   few returns where it saw free space (maxInFreeSpace: a twin corridor's features elsewhere), and agree with agreeingMatches - 1 other verified matches of the last
  *   agreeWindow metres (the two loops imply the same relative pose between their keyframes as
  *   the graph does). In the optimisation, loop edges failing a chi-square test are disabled
  *   (PoseGraph: a hard-redescending robust kernel, re-admitted when they fit again).
@@ -76,6 +77,9 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	/** At most this fraction of the scan may land where the local map saw nothing, and the robot
 	 * must stand where it saw free space: a revisit sees what the earlier visit saw. */
 	double maxUnexploredFraction = 0.3;
+	/** At most this fraction of the scan may land where the local map saw free space (more than 0.15 m
+	 * from any obstacle): only what moved since, not a look-alike place's features. */
+	double maxInFreeSpace = 0.08;
 	unsigned agreeingMatches = 2;  ///< verified matches that must agree before a loop is accepted
 	double agreeWindow = 20.0;	///< m driven over which those matches are looked for
 	double agreeLinear = 0.2;  ///< m: two matches agree when they imply the same relative pose...

@@ -96,6 +96,10 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	}
 	/** The fraction of `points` (robot frame) that land in unexplored cells seen from `pose`. */
 	double unexploredFraction(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose) const;
+	/** The fraction of `points` (robot frame, seen from `pose`) that land in cells observed free, farther
+	 * than `margin` (m) from any obstacle: returns where the map saw nothing (a person, or a wrong pose). */
+	double inFreeSpaceFraction(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose,
+							   double margin) const;
 	/** The points (robot frame) that say something about a pose near `pose`: all but those that
 	 * land in unexplored space more than two cells from any obstacle. Beyond the end of a mapped
 	 * wall the distance map still pulls a point back towards the wall's end; along a corridor
