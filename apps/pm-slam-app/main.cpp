@@ -205,7 +205,9 @@ void writeOutputs(const std::string& dir, const pmslam::PerfectMatchSlam& slam, 
 		}
 	});
 	const auto& grid = slam.grid();
-	pmslam::saveMapPng(grid, traj, at("map.png"));
+	pmslam::saveMapPng(grid, traj, at("map.png"),
+					   slam.loopClosure() ? slam.loopClosure()->loopLinks()
+										  : std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>());
 	if (localizing) return;	 // the map is the fixed prior map: only the path over it is new
 	pmslam::saveMapPgmYaml(grid, at("map.pgm"), at("map.yaml"));
 	pmslam::saveGridMapGz(grid, at("map.gridmap.gz"));
@@ -316,6 +318,21 @@ int main(int argc, char** argv)
 		for (const auto& [i, p] : slam.takeSmoothedPoses(finish))
 			if (i < traj.size()) traj[i].x = p.x, traj[i].y = p.y, traj[i].yaw = p.phi;
 	};
+	// The live view: each pose moved with its keyframe where the graph has it, and the closures.
+	auto corrected = [&](const pmslam::Trajectory& t) {
+		if (!slam.loopClosure()) return t;
+		std::vector<mrpt::math::TPose2D> poses;
+		poses.reserve(t.size());
+		for (const auto& p : t) poses.emplace_back(p.x, p.y, p.yaw);
+		poses = slam.correctedTrajectory(poses);
+		pmslam::Trajectory out = t;
+		for (std::size_t i = 0; i < out.size(); ++i) out[i].x = poses[i].x, out[i].y = poses[i].y, out[i].yaw = poses[i].phi;
+		return out;
+	};
+	auto loopLinks = [&]() {
+		return slam.loopClosure() ? slam.loopClosure()->loopLinks()
+								  : std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>();
+	};
 	std::vector<ScanTiming> timing;
 	const auto wallStart = std::chrono::steady_clock::now();
 	auto lastGui = wallStart;
@@ -361,7 +378,8 @@ int main(int argc, char** argv)
 					pose.composePoint(p.x, p.y, wx, wy);
 					scanInMap.emplace_back(wx, wy);
 				}
-				window->show(pmslam::renderMap(slam.grid(), traj, scanInMap));
+				// With loop closure: the trajectory as the graph has it now, and the closures in blue.
+				window->show(pmslam::renderMap(slam.grid(), corrected(traj), scanInMap, loopLinks()));
 				lastGui = std::chrono::steady_clock::now();
 			}
 			if (args.maxScans && traj.size() >= args.maxScans) break;
@@ -501,7 +519,7 @@ int main(int argc, char** argv)
 	std::fflush(stderr);
 	if (window)
 	{
-		window->show(pmslam::renderMap(slam.grid(), traj));
+		window->show(pmslam::renderMap(slam.grid(), traj, {}, loopLinks()));
 		std::cout << "Close the window or press a key in it to exit." << std::endl;
 		window->waitForKey();  // returns at once when the window is closed
 		window.reset();

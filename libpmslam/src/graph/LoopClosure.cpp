@@ -166,6 +166,7 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 		m_graph.addEdge(id - 1, id, z, toMrpt(info));
 	}
 	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose});
+	m_published.push_back(m_graph.pose(id));
 	if (m_opts.background)
 		m_job = std::async(std::launch::async, [this, id] { return runJob(id); });
 	else
@@ -190,9 +191,23 @@ std::optional<LoopClosure::Update> LoopClosure::sync()
 	return std::nullopt;
 }
 
+void LoopClosure::publish()
+{
+	for (std::size_t i = 0; i < m_nodes.size(); ++i) m_published[i] = m_graph.pose(i);
+	m_links.clear();
+	for (const auto& e : m_graph.edges())
+		if (e.kind == PoseGraphEdgeKind::Loop && !e.rejected)
+		{
+			const TPose2D& a = m_published[e.from];
+			const TPose2D& b = m_published[e.to];
+			m_links.emplace_back(mrpt::math::TPoint2D(a.x, a.y), mrpt::math::TPoint2D(b.x, b.y));
+		}
+}
+
 std::optional<LoopClosure::Update> LoopClosure::take(JobResult r)
 {
 	m_stats.backendSeconds += r.seconds;
+	if (r.optimized) publish();
 	if (!r.grid) return std::nullopt;
 	return Update{std::move(r.grid), r.correction};
 }
@@ -205,6 +220,7 @@ std::optional<LoopClosure::Update> LoopClosure::finish()
 	if (m_pendingLoops > 0 && optimizeIfDue(m_nodes.size() - 1, true))
 	{
 		JobResult r;
+		r.optimized = true;
 		r.grid = rebuildIfMoved(r.correction);
 		last = take(std::move(r));
 	}
@@ -230,7 +246,11 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node)
 	JobResult r;
 	detect(node);
 	++m_sinceOptimization;
-	if (optimizeIfDue(node, m_loopOpen)) r.grid = rebuildIfMoved(r.correction);
+	if (optimizeIfDue(node, m_loopOpen))
+	{
+		r.optimized = true;
+		r.grid = rebuildIfMoved(r.correction);
+	}
 	r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return r;
 }

@@ -105,7 +105,8 @@ void saveMapPgmYaml(const mrpt::maps::COccupancyGridMap2D& grid, const std::stri
 }
 
 mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path,
-							const std::vector<mrpt::math::TPoint2D>& scanInMap)
+							const std::vector<mrpt::math::TPoint2D>& scanInMap,
+							const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links)
 {
 	const Crop c = mappedArea(grid);
 	mrpt::img::CImage img(c.width(), c.height(), mrpt::img::CH_RGB);
@@ -127,6 +128,14 @@ mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const T
 		const auto [bx, by] = toPixel(path[i].x, path[i].y);
 		img.line(ax, ay, bx, by, red, 1);
 	}
+	// Loop closures in blue, between the two keyframes each joins.
+	const mrpt::img::TColor blue(30, 80, 230);
+	for (const auto& [a, b] : links)
+	{
+		const auto [ax, ay] = toPixel(a.x, a.y);
+		const auto [bx, by] = toPixel(b.x, b.y);
+		img.line(ax, ay, bx, by, blue, 1);
+	}
 	const mrpt::img::TColor green(20, 170, 40);
 	for (const auto& p : scanInMap)
 	{
@@ -136,9 +145,10 @@ mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const T
 	return img;
 }
 
-void saveMapPng(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path, const std::string& pngPath)
+void saveMapPng(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path, const std::string& pngPath,
+				const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links)
 {
-	const mrpt::img::CImage img = renderMap(grid, path);
+	const mrpt::img::CImage img = renderMap(grid, path, {}, links);
 	viaTemporary(pngPath, [&](const std::string& tmp) {
 		if (!img.saveToFile(tmp)) throw std::runtime_error("cannot write '" + pngPath + "': image encoder failed");
 	});

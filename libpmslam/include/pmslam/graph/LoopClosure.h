@@ -41,6 +41,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/graph/PoseGraph.h>
@@ -140,10 +141,14 @@ class LoopClosure
 	 * they moved since the last map (nullopt: the current map already is). */
 	std::optional<Update> finish();
 
-	const PoseGraph& graph() const { return m_graph; }	// valid after sync() / finish()
+	/** The graph; only while no worker runs (after finish()). */
+	const PoseGraph& graph() const { return m_graph; }
 	std::size_t nodeCount() const { return m_nodes.size(); }
-	/** Pose of node `id` in the graph (optimised where it was) and as the front-end first had it. */
-	mrpt::math::TPose2D nodePose(std::size_t id) const { return m_graph.pose(id); }
+	/** Pose of node `id` as of the last result taken (sync(), finish()): safe while the worker runs. */
+	mrpt::math::TPose2D nodePose(std::size_t id) const { return m_published.at(id); }
+	/** The accepted loop edges as of the last result taken, as the positions of their two nodes
+	 * (for display; safe while the worker runs). */
+	const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& loopLinks() const { return m_links; }
 	const LoopClosureStats& stats() const { return m_stats; }
 	/** Loop edges accepted so far: (from, to) node ids. */
 	std::vector<std::pair<std::size_t, std::size_t>> loopEdges() const;
@@ -167,6 +172,7 @@ class LoopClosure
 	{
 		std::shared_ptr<OccupancyDistanceGridMap> grid;
 		mrpt::poses::CPose2D correction;
+		bool optimized = false;
 		double seconds = 0;
 	};
 	JobResult runJob(std::size_t node);	 // on the worker
@@ -178,6 +184,7 @@ class LoopClosure
 	Eigen::Matrix3d odometryInformation(const mrpt::math::TPose2D& z, double scale) const;
 	Eigen::Matrix3d toEdgeFrame(const Eigen::Matrix3d& mapFrameInformation, double fromPhi) const;
 	std::optional<Update> take(JobResult r);
+	void publish();	 // node poses and loop links for the main thread (no worker running)
 
 	LoopClosureOptions m_opts;
 	OccupancyGridUpdateOptions m_gridOpts;
@@ -193,6 +200,8 @@ class LoopClosure
 	std::future<JobResult> m_job;
 	std::optional<JobResult> m_inlineResult;
 	LoopClosureStats m_stats;
+	std::vector<mrpt::math::TPose2D> m_published;
+	std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>> m_links;
 };
 
 }  // namespace pmslam

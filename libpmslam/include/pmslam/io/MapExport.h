@@ -18,6 +18,7 @@
 #include <mrpt/math/TPoint2D.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pmslam
@@ -30,10 +31,12 @@ void saveMapPgmYaml(const mrpt::maps::COccupancyGridMap2D& grid, const std::stri
 /** The mapped area as an RGB image (grey occupancy, trajectory in red, and optionally the current scan's
  * endpoints in the map frame in green), for display or saving. */
 mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path,
-							const std::vector<mrpt::math::TPoint2D>& scanInMap = {});
+							const std::vector<mrpt::math::TPoint2D>& scanInMap = {},
+							const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links = {});
 
-/** A PNG picture of the mapped area with the trajectory drawn over it. */
-void saveMapPng(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path, const std::string& pngPath);
+/** A PNG picture of the mapped area with the trajectory drawn over it (and loop closures, in blue). */
+void saveMapPng(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path, const std::string& pngPath,
+				const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links = {});
 
 /** MRPT's own formats, gz-compressed: a serialised COccupancyGridMap2D
  * (opens in RawLogViewer / grid-matching) and a CSimpleMap of keyframes. */
