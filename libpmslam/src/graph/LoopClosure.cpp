@@ -165,6 +165,14 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 		m_graph.addNode(id, compose(m_graph.pose(id - 1), z));
 		m_graph.addEdge(id - 1, id, z, toMrpt(info));
 	}
+	// For bench/calibrate_information.py: each keyframe's time, pose and match curvature.
+	if (const char* dump = std::getenv("PMSLAM_KEYFRAMES_DUMP"))
+		if (FILE* f = std::fopen(dump, "a"))
+		{
+			std::fprintf(f, "%.6f %.6f %.6f %.6f %.6g %.6g %.6g %.6g %.6g %.6g\n", timestamp, pose.x, pose.y, pose.phi,
+						 hessian(0, 0), hessian(0, 1), hessian(0, 2), hessian(1, 1), hessian(1, 2), hessian(2, 2));
+			std::fclose(f);
+		}
 	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose});
 	m_published.push_back(m_graph.pose(id));
 	if (m_opts.background)
