@@ -2,6 +2,7 @@
 #include <pmslam/graph/PoseGraph.h>
 #include <pmslam/io/AtomicFile.h>
 
+#include <ceres/ceres.h>
 #include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/graphslam/levmarq.h>
 #include <mrpt/math/wrap2pi.h>
@@ -9,6 +10,7 @@
 #include <Eigen/Cholesky>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -44,6 +46,25 @@ double chi2Of(const PoseGraphEdge& e, const std::map<PoseGraph::NodeId, TPose2D>
 		for (int j = 0; j < 3; ++j) chi2 += r[i] * e.information(i, j) * r[j];
 	return chi2;
 }
+
+// Residual of one edge for Ceres: sqrt(information) (x_from^-1 (+) x_to - z), the angle wrapped.
+struct EdgeResidual
+{
+	double z[3];
+	Eigen::Matrix3d sqrtInfo;
+	template <typename T>
+	bool operator()(const T* a, const T* b, T* r) const
+	{
+		using std::cos;
+		using std::sin;
+		const T c = cos(a[2]), s = sin(a[2]), dx = b[0] - a[0], dy = b[1] - a[1];
+		T e[3] = {c * dx + s * dy - z[0], -s * dx + c * dy - z[1], b[2] - a[2] - z[2]};
+		const T twoPi = T(2 * M_PI);
+		e[2] = e[2] - twoPi * ceres::floor((e[2] + T(M_PI)) / twoPi);
+		for (int i = 0; i < 3; ++i) r[i] = T(sqrtInfo(i, 0)) * e[0] + T(sqrtInfo(i, 1)) * e[1] + T(sqrtInfo(i, 2)) * e[2];
+		return true;
+	}
+};
 
 void checkInformation(const mrpt::math::CMatrixDouble33& I, const std::string& what)
 {
@@ -133,6 +154,88 @@ void PoseGraph::clear()
 	fixed_ = 0;
 }
 
+void PoseGraph::solveMrpt(const std::map<NodeId, bool>& reached, const PoseGraphOptions& options, PoseGraphStats& stats)
+{
+	auto activeChi2 = [&] {
+		double sum = 0;
+		for (const PoseGraphEdge& e : edges_)
+			if (!e.rejected) sum += chi2Of(e, nodes_);
+		return sum;
+	};
+	// MRPT's graph of that component, optimised with the fixed node as root.
+	Graph g;
+	for (const auto& n : reached) g.nodes[n.first] = mrpt::poses::CPose2D(nodes_.at(n.first));
+	g.root = fixed_;
+	for (const PoseGraphEdge& e : edges_)
+		if (!e.rejected && reached.count(e.from))
+			g.insertEdge(e.from, e.to,
+						 mrpt::poses::CPosePDFGaussianInf(mrpt::poses::CPose2D(e.z), e.information));
+	mrpt::containers::yaml params = mrpt::containers::yaml::Map();
+	params["max_iterations"] = static_cast<uint64_t>(options.maxIterations);
+	params["verbose"] = options.verbose;
+	// Stop when a step moves the solution by less than 1e-9 of its norm (MRPT's default, 1e-6, stops a
+	// 100 m ring centimetres short of the minimum: the norm is that of all coordinates together).
+	params["e2"] = 1e-9;
+	// MRPT 2.5's Levenberg-Marquardt does not recover from a rejected step (the retry with a larger lambda
+	// builds its matrix from an emptied Hessian, "non-definite positive", until lambda > 1e9): it stops at
+	// the first step that would increase the error. Restarted from where it stopped, it rebuilds the
+	// Hessian; restarts end when one no longer lowers the error.
+	double previous = std::numeric_limits<double>::infinity();
+	for (std::size_t restart = 0; restart < 10 && stats.iterations < options.maxIterations * 10; ++restart)
+	{
+		mrpt::graphslam::TResultInfoSpaLevMarq info{};
+		mrpt::graphslam::optimize_graph_spa_levmarq(g, info, nullptr, params);
+		stats.iterations += info.num_iters;
+		for (const auto& n : g.nodes)
+		{
+			const TPose2D p(n.second.x(), n.second.y(), mrpt::math::wrapToPi(n.second.phi()));
+			if (finite(p)) nodes_[n.first] = p;
+		}
+		const double now = activeChi2();
+		if (!(now < previous * (1 - 1e-9)) || info.num_iters == 0) break;
+		previous = now;
+		params["initial_lambda"] = 1e-6;  // a restart is near the minimum: start close to Gauss-Newton
+	}
+}
+
+void PoseGraph::solveCeres(const std::map<NodeId, bool>& reached, const PoseGraphOptions& options, PoseGraphStats& stats)
+{
+	// One parameter block (x, y, phi) per node of the component; the fixed node held constant.
+	std::map<NodeId, std::array<double, 3>> x;
+	for (const auto& n : reached)
+	{
+		const TPose2D& p = nodes_.at(n.first);
+		x[n.first] = {p.x, p.y, p.phi};
+	}
+	ceres::Problem problem;
+	for (const PoseGraphEdge& e : edges_)
+		if (!e.rejected && reached.count(e.from))
+		{
+			const Eigen::Matrix3d sqrtInfo = Eigen::LLT<Eigen::Matrix3d>(e.information.asEigen()).matrixU();
+			problem.AddResidualBlock(
+				new ceres::AutoDiffCostFunction<EdgeResidual, 3, 3, 3>(new EdgeResidual{{e.z.x, e.z.y, e.z.phi}, sqrtInfo}),
+				nullptr, x[e.from].data(), x[e.to].data());
+		}
+	problem.SetParameterBlockConstant(x[fixed_].data());
+	ceres::Solver::Options o;
+	o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+	o.max_num_iterations = static_cast<int>(options.maxIterations);
+	o.num_threads = 1;	// repeatable
+	o.function_tolerance = 1e-12;
+	o.gradient_tolerance = 1e-14;
+	o.parameter_tolerance = 1e-12;
+	o.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+	o.minimizer_progress_to_stdout = options.verbose;
+	ceres::Solver::Summary summary;
+	ceres::Solve(o, &problem, &summary);
+	stats.iterations += summary.iterations.size();
+	for (const auto& [id, v] : x)
+	{
+		const TPose2D p(v[0], v[1], mrpt::math::wrapToPi(v[2]));
+		if (finite(p)) nodes_[id] = p;
+	}
+}
+
 PoseGraphStats PoseGraph::optimize(const PoseGraphOptions& options)
 {
 	const auto t0 = std::chrono::steady_clock::now();
@@ -174,40 +277,10 @@ PoseGraphStats PoseGraph::optimize(const PoseGraphOptions& options)
 			if (!reached.count(n.first)) stats.unconnectedNodes.push_back(n.first);
 		if (reached.size() < 2) break;	// nothing to optimise
 
-		// MRPT's graph of that component, optimised with the fixed node as root.
-		Graph g;
-		for (const auto& n : reached) g.nodes[n.first] = mrpt::poses::CPose2D(nodes_.at(n.first));
-		g.root = fixed_;
-		for (const PoseGraphEdge& e : edges_)
-			if (!e.rejected && reached.count(e.from))
-				g.insertEdge(e.from, e.to,
-							 mrpt::poses::CPosePDFGaussianInf(mrpt::poses::CPose2D(e.z), e.information));
-		mrpt::containers::yaml params = mrpt::containers::yaml::Map();
-		params["max_iterations"] = static_cast<uint64_t>(options.maxIterations);
-		params["verbose"] = options.verbose;
-		// Stop when a step moves the solution by less than 1e-9 of its norm (MRPT's default, 1e-6, stops a
-		// 100 m ring centimetres short of the minimum: the norm is that of all coordinates together).
-		params["e2"] = 1e-9;
-		// MRPT 2.5's Levenberg-Marquardt does not recover from a rejected step (the retry with a larger lambda
-		// builds its matrix from an emptied Hessian, "non-definite positive", until lambda > 1e9): it stops at
-		// the first step that would increase the error. Restarted from where it stopped, it rebuilds the
-		// Hessian; restarts end when one no longer lowers the error.
-		double previous = std::numeric_limits<double>::infinity();
-		for (std::size_t restart = 0; restart < 10 && stats.iterations < options.maxIterations * 10; ++restart)
-		{
-			mrpt::graphslam::TResultInfoSpaLevMarq info{};
-			mrpt::graphslam::optimize_graph_spa_levmarq(g, info, nullptr, params);
-			stats.iterations += info.num_iters;
-			for (const auto& n : g.nodes)
-			{
-				const TPose2D p(n.second.x(), n.second.y(), mrpt::math::wrapToPi(n.second.phi()));
-				if (finite(p)) nodes_[n.first] = p;
-			}
-			const double now = activeChi2();
-			if (!(now < previous * (1 - 1e-9)) || info.num_iters == 0) break;
-			previous = now;
-			params["initial_lambda"] = 1e-6;  // a restart is near the minimum: start close to Gauss-Newton
-		}
+		if (options.solver == PoseGraphSolver::Ceres)
+			solveCeres(reached, options, stats);
+		else
+			solveMrpt(reached, options, stats);
 		++stats.rounds;
 		if (!options.rejectOutliers) break;
 
