@@ -94,6 +94,7 @@ struct Args
 	std::string localize;  // fixed map to localise on (empty: SLAM)
 	mrpt::math::TPose2D initialPose{0, 0, 0};
 	bool gui = false, quiet = false;
+	bool logGiven = false, outGiven = false;
 	double maxUntracked = 10.0;	 // s
 	int progress = -1;	// -1 auto
 };
@@ -123,7 +124,7 @@ Args parseArgs(int argc, char** argv)
 		}
 		else if (s == "--config") a.config = value("--config");
 		else if (s == "--set") a.sets.push_back(value("--set"));
-		else if (s == "--out") a.out = value("--out");
+		else if (s == "--out") a.out = value("--out"), a.outGiven = true;
 		else if (s == "--max-scans")
 		{
 			const std::string v = value("--max-scans");
@@ -163,6 +164,7 @@ Args parseArgs(int argc, char** argv)
 	if (positional.size() > 1) usageError("expected one LOG, got " + std::to_string(positional.size()));
 	if (initialPoseGiven && a.localize.empty()) usageError("--initial-pose needs --localize MAP");
 	a.log = positional.empty() ? kDefaultLog : positional[0];
+	a.logGiven = !positional.empty();
 	return a;
 }
 
@@ -221,7 +223,7 @@ int main(int argc, char** argv)
 	// Installed first, so that a signal at any time ends with exit code 130 and outputs.
 	std::signal(SIGINT, onSignal);
 	std::signal(SIGTERM, onSignal);
-	const Args args = parseArgs(argc, argv);
+	Args args = parseArgs(argc, argv);
 
 	pmslam::SlamConfig cfg;
 	try
@@ -233,6 +235,19 @@ int main(int argc, char** argv)
 		std::cerr << "pm-slam-app: " << e.what() << "\n";
 		return 2;
 	}
+	for (const auto& n : cfg.notes)
+		if (!args.quiet) std::cerr << "pm-slam-app: note: " << n << "\n";
+	// An icp-slam file names its log and output folder; the command line wins.
+	if (!args.logGiven && !cfg.icpSlamLogFile.empty())
+	{
+		namespace fs = std::filesystem;
+		fs::path p = cfg.icpSlamLogFile;
+		// As icp-slam: relative to the working directory; MRPT's sample files name it relative to themselves.
+		const fs::path besideIni = fs::path(args.config).parent_path() / p;
+		if (p.is_relative() && !fs::exists(p) && fs::exists(besideIni)) p = besideIni;
+		args.log = p.string();
+	}
+	if (!args.outGiven && !cfg.icpSlamOutputDir.empty()) args.out = cfg.icpSlamOutputDir;
 	// The log first: a bad LOG must not leave an empty --out folder behind.
 	std::unique_ptr<pmslam::LogReader> reader;
 	try

@@ -124,3 +124,20 @@ TEST_F(MrptTools, RawlogEditParsesOurSimpleMap)
 	// The whole file is one serialised CSimpleMap, read to its end without error.
 	EXPECT_NE(r.output.find("Overall number of objects         : 1\n"), std::string::npos) << r.output;
 }
+
+// An MRPT user's icp-slam configuration: pm-slam-app maps the log it names into the folder it names,
+// with one note on what it does not use.
+TEST(IcpSlamIni, ConfigurationMapsItsLog)
+{
+	const std::string ini = "/usr/share/mrpt/config_files/icp-slam/icp-slam_demo_classic.ini";
+	if (!fs::exists(ini) || !fs::exists(kSample)) GTEST_SKIP() << ini << " or MRPT's sample log not installed";
+	pmslam::testing::ScratchDir dir("icp-slam-ini");
+	const auto r = run("cd " + quote(dir.dir.string()) + " && " + quote(kApp) + " --no-progress --config " + quote(ini));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("is an icp-slam configuration"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("[ICP]"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("one_loop_only.rawlog"), std::string::npos) << r.output;
+	const fs::path traj = dir.dir / "LOG_ICP-SLAM" / "trajectory.txt";	// logOutput_dir
+	ASSERT_TRUE(fs::exists(traj));
+	EXPECT_GT(pmslam::testing::countDataLines(traj), 200u);	// the sample log's 225 scans
+}

@@ -108,3 +108,70 @@ TEST(SlamConfig, MalformedOverrideAndMissingFile)
 		EXPECT_NE(std::string(e.what()).find("/nonexistent/pmslam.ini: cannot open"), std::string::npos) << e.what();
 	}
 }
+
+// MRPT icp-slam files: read in pmslam's terms, what pmslam does not use named in a note.
+TEST(SlamConfig, IcpSlamFileIsReadWithItsMeaning)
+{
+	const std::string ini = R"([ICP]
+maxIterations    = 80    // ICP only
+[MappingApplication]
+rawlog_file=../../datasets/some.rawlog
+rawlog_offset=0
+logOutput_dir=LOG_ICP-SLAM
+LOG_FREQUENCY=50			// display
+SHOW_PROGRESS_3D_REAL_TIME=1
+localizationLinDistance	= 0.2	// meters
+localizationAngDistance	= 5	// degrees
+insertionLinDistance	= 1.2
+insertionAngDistance	= 45.0
+minICPgoodnessToAccept	= 0.40
+pointsMap_count=1
+[MappingApplication_pointsMap_00_insertOpts]
+minDistBetweenLaserPoints   = 0.05
+[MappingApplication_occupancyGrid_00_creationOpts]
+resolution = 0.1
+)";
+	const pmslam::SlamConfig c = parseSlamConfig(ini, "my-icp-slam.ini");
+	EXPECT_NEAR(c.mapping.insertionLinDistance, 0.2, 1e-12);  // icp-slam's "localization" = when a scan is matched
+	EXPECT_NEAR(c.mapping.insertionAngDistance, mrpt::DEG2RAD(5.0), 1e-12);
+	EXPECT_NEAR(c.mapping.mapInsertLinDistance, 1.2, 1e-12);	// its "insertion" = when it goes into the map
+	EXPECT_NEAR(c.mapping.mapInsertAngDistance, mrpt::DEG2RAD(45.0), 1e-12);
+	EXPECT_NEAR(c.mapping.grid.resolution, 0.1, 1e-12);
+	EXPECT_EQ(c.icpSlamLogFile, "../../datasets/some.rawlog");
+	EXPECT_EQ(c.icpSlamOutputDir, "LOG_ICP-SLAM");
+	ASSERT_EQ(c.notes.size(), 1u);
+	for (const char* named : {"[ICP]", "[MappingApplication_pointsMap_00_insertOpts]", "LOG_FREQUENCY",
+							  "minICPgoodnessToAccept", "localizationLinDistance as insertionLinDistance"})
+		EXPECT_NE(c.notes[0].find(named), std::string::npos) << named << " not in: " << c.notes[0];
+	// Untouched keys keep pmslam's defaults; --set uses pmslam's names.
+	EXPECT_EQ(c.mapping.minGoodness, pmslam::MapBuilderOptions().minGoodness);
+	const pmslam::SlamConfig o = parseSlamConfig(ini, "my-icp-slam.ini", {"MappingApplication.insertionLinDistance=0.05"});
+	EXPECT_NEAR(o.mapping.insertionLinDistance, 0.05, 1e-12);
+	// A pmslam file is not taken for one.
+	EXPECT_TRUE(parseSlamConfig("[MappingApplication]\ninsertionLinDistance = 0.3\n", "p.ini").notes.empty());
+	EXPECT_NEAR(parseSlamConfig("[MappingApplication]\ninsertionLinDistance = 0.3\n", "p.ini").mapping.insertionLinDistance, 0.3, 1e-12);
+}
+
+TEST(SlamConfig, IcpSlamFileWithWhatPmslamCannotHonourIsAnError)
+{
+	const std::string both = errorOf("[ICP]\n[MappingApplication]\nlocalizationAngDistance = 5\ninsertionAngDistance_deg = 2\n");
+	EXPECT_NE(both.find("localizationAngDistance"), std::string::npos) << both;
+	EXPECT_NE(both.find("insertionAngDistance_deg"), std::string::npos) << both;
+	const std::string offset = errorOf("[ICP]\n[MappingApplication]\nrawlog_offset = 10\n");
+	EXPECT_NE(offset.find("rawlog_offset"), std::string::npos) << offset;
+	EXPECT_NE(offset.find("whole log"), std::string::npos) << offset;
+	// A typo is still named with a suggestion.
+	const std::string typo = errorOf("[ICP]\n[MappingApplication]\nminGodness = 0.5\n");
+	EXPECT_NE(typo.find("minGodness"), std::string::npos) << typo;
+	EXPECT_NE(typo.find("minGoodness"), std::string::npos) << typo;
+}
+
+// MRPT's own demo file, as installed (mrpt-apps): parses, and names MRPT's sample log.
+TEST(SlamConfig, MrptIcpSlamDemoFileParses)
+{
+	const std::string path = "/usr/share/mrpt/config_files/icp-slam/icp-slam_demo_classic.ini";
+	if (!std::ifstream(path)) GTEST_SKIP() << path << " not installed (package mrpt-apps)";
+	const pmslam::SlamConfig c = pmslam::loadSlamConfig(path);
+	EXPECT_NE(c.icpSlamLogFile.find("one_loop_only.rawlog"), std::string::npos);
+	EXPECT_FALSE(c.notes.empty());
+}

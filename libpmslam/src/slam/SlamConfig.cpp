@@ -2,6 +2,8 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <pmslam/slam/SlamConfig.h>
 
+#include "IcpSlamDialect.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -261,7 +263,21 @@ std::string oneLine(const std::string& what)
 SlamConfig parseChecked(const std::string& iniText, const std::string& sourceName,
 						const std::vector<std::string>& overrides)
 {
-	mrpt::config::CConfigFileMemory cfg(iniText);
+	SlamConfig c;
+	std::string text = iniText;
+	{
+		// An MRPT icp-slam file: read in pmslam's terms (the overrides then use pmslam's names).
+		const mrpt::config::CConfigFileMemory original(iniText);
+		if (detail::isIcpSlamConfig(original))
+		{
+			detail::IcpSlamTranslation t;
+			text = detail::translateIcpSlamConfig(original, sourceName, t);
+			c.icpSlamLogFile = t.logFile;
+			c.icpSlamOutputDir = t.outputDir;
+			c.notes.push_back(t.note);
+		}
+	}
+	mrpt::config::CConfigFileMemory cfg(text);
 	for (const auto& o : overrides)
 	{
 		const auto eq = o.find('='), dot = o.find('.');
@@ -271,7 +287,6 @@ SlamConfig parseChecked(const std::string& iniText, const std::string& sourceNam
 	}
 	const std::string where = overrides.empty() ? sourceName : sourceName + " (with --set overrides)";
 	validate(cfg, where);
-	SlamConfig c;
 	try
 	{
 		c.matcher.loadFromConfigFile(cfg, "PerfectMatch");

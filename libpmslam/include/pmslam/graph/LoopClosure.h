@@ -153,6 +153,7 @@ class LoopClosure
 	/** The accepted loop edges as of the last result taken, as the positions of their two nodes
 	 * (for display; safe while the worker runs). */
 	const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& loopLinks() const { return m_links; }
+	/** Counters; complete after finish() (the worker updates them while it runs). */
 	const LoopClosureStats& stats() const { return m_stats; }
 	/** Loop edges accepted so far: (from, to) node ids. */
 	std::vector<std::pair<std::size_t, std::size_t>> loopEdges() const;

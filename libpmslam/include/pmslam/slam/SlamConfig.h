@@ -4,6 +4,13 @@
  *   [PerfectMatch]        the matcher (PerfectMatchMatcher::TConfigParams)
  *   [MappingApplication]  the builder and its grid (MapBuilderOptions)
  *   [Log]                 how logs are read (LogReaderOptions, odometry source)
+ * An MRPT icp-slam file (an [ICP] section or icp-slam's own keys) is read in pmslam's terms: its
+ * localizationLin/AngDistance are the matching thresholds (insertionLinDistance,
+ * insertionAngDistance_deg), its insertionLin/AngDistance the map insertion ones
+ * (mapInsertLinDistance, mapInsertAngDistance_deg), its grid resolution the grid's; rawlog_file and
+ * logOutput_dir are kept for the program; [ICP], the other maps' sections and the display and
+ * logging keys are ignored and named in a note (SlamConfig::notes); rawlog_offset other than 0 is an
+ * error (pmslam maps the whole log).
  * Unknown sections and keys, values of the wrong type and values out of range
  * are errors (ConfigError, one line naming section, key and what was expected,
  * with the closest valid key as a suggestion): a typo must not silently fall
@@ -42,6 +49,11 @@ struct SlamConfig
 	LoopClosureOptions loopClosure;
 	LogReaderOptions log;
 	OdometrySource odometrySource = OdometrySource::Auto;
+	/** From an MRPT icp-slam file (read in pmslam's terms, see below): its rawlog_file and
+	 * logOutput_dir (empty when not given), for a program to use when the command line names none. */
+	std::string icpSlamLogFile, icpSlamOutputDir;
+	/** One-line notes for the user (what of an icp-slam file was read how, and what was ignored). */
+	std::vector<std::string> notes;
 };
 
 /** Loads `iniPath` (empty: defaults only), then applies overrides "SECTION.KEY=VALUE".
