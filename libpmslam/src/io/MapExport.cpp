@@ -159,9 +159,17 @@ void saveGridMapGz(const mrpt::maps::COccupancyGridMap2D& grid, const std::strin
 	viaTemporary(path, [&](const std::string& tmp) {
 		mrpt::io::CFileGZOutputStream f;
 		if (!f.open(tmp)) throw std::runtime_error("cannot write '" + path + "'");
-		// Serialise as a plain COccupancyGridMap2D, whatever subclass holds it.
-		const mrpt::maps::COccupancyGridMap2D plain = grid;
-		mrpt::serialization::archiveFrom(f) << plain;
+		// Serialised as a plain COccupancyGridMap2D whatever subclass holds it. A subclass without RTTI
+		// of its own (OccupancyDistanceGridMap) already is one to MRPT's serialiser: written as it is,
+		// without a second full copy of the grid; any other is copied into a plain one first.
+		auto out = mrpt::serialization::archiveFrom(f);
+		if (std::string(grid.GetRuntimeClass()->className) == "COccupancyGridMap2D")
+			out << static_cast<const mrpt::serialization::CSerializable&>(grid);
+		else
+		{
+			const mrpt::maps::COccupancyGridMap2D plain = grid;
+			out << plain;
+		}
 	});
 }
 
