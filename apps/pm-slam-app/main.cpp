@@ -432,7 +432,8 @@ int main(int argc, char** argv)
 		const auto& st = reader->stats();
 		std::cerr << "pm-slam-app: no laser scan in '" << args.log << "' (" << st.linesOrObjects
 				  << " lines/objects read, " << st.skipped
-				  << " skipped): expected FLASER/RLASER/ROBOTLASER1 lines or CObservation2DRangeScan objects\n";
+				  << " skipped): expected FLASER/RLASER/ROBOTLASER1 lines or CObservation2DRangeScan objects (or 3D "
+					 "observations to slice: CObservation3DRangeScan, CObservationPointCloud, CObservationVelodyneScan)\n";
 		return 2;
 	}
 	if (g_stop) std::cerr << "pm-slam-app: interrupted after " << traj.size() << " scans: writing what was computed\n";

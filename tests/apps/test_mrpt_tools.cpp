@@ -141,3 +141,31 @@ TEST(IcpSlamIni, ConfigurationMapsItsLog)
 	ASSERT_TRUE(fs::exists(traj));
 	EXPECT_GT(pmslam::testing::countDataLines(traj), 200u);	// the sample log's 225 scans
 }
+
+// MRPT's own 3D-lidar and RGB-D sample rawlogs are mapped through their 2D slice (ScanSlice.h).
+TEST(ThreeDRawlogs, MrptSampleLogsAreMapped)
+{
+	for (const char* name : {"test_velodyne_VLP16.rawlog", "tests_rgbd.rawlog"})
+	{
+		const std::string log = std::string("/usr/share/mrpt/datasets/") + name;
+		if (!fs::exists(log))
+		{
+			std::printf("skipped: %s not installed (package mrpt-common)\n", log.c_str());
+			continue;
+		}
+		pmslam::testing::ScratchDir dir("3d");
+		const auto r = run(quote(kApp) + " --no-progress --out " + quote(dir.path("out")) + " " + quote(log));
+		ASSERT_EQ(r.exitCode, 0) << name << ": " << r.output;
+		EXPECT_EQ(pmslam::testing::countDataLines(dir.dir / "out" / "trajectory.txt"), 1u) << name;	// one observation each
+		EXPECT_TRUE(fs::exists(dir.dir / "out" / "map.png"));
+	}
+	// A rotating scan without ring geometry is named, not silently dropped.
+	const std::string rot = "/usr/share/mrpt/datasets/rot_scan_velodyne.rawlog";
+	if (fs::exists(rot))
+	{
+		pmslam::testing::ScratchDir dir("rot");
+		const auto r = run(quote(kApp) + " --no-progress --out " + quote(dir.path("out")) + " " + quote(rot));
+		EXPECT_EQ(r.exitCode, 2) << r.output;
+		EXPECT_NE(r.output.find("elevation angles"), std::string::npos) << r.output;
+	}
+}

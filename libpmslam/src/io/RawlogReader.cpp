@@ -5,6 +5,7 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <pmslam/sensor/ScanSlice.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
@@ -122,6 +123,7 @@ struct RawlogReader::Impl
 	mrpt::poses::CPose2D odom;	// accumulated action–observation odometry
 	bool odomEmitted = false;
 	bool fixWarned = false;
+	std::set<std::string> sliceWarned;	// reasons a 3D observation could not be sliced, warned once each
 	double lastTs = 0;
 
 	mutable bool estimated = false;
@@ -194,8 +196,12 @@ std::size_t RawlogReader::estimatedScanCount() const
 			if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obj))
 				++scans;
 			else if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
+			{
 				for (const auto& o : *sf)
-					if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o)) ++scans;
+					if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o) || (o && isSliceable(*o))) ++scans;
+			}
+			else if (auto ob = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj); ob && isSliceable(*ob))
+				++scans;
 		}
 		const std::uint64_t consumed = in.getPosition();
 		if (atEnd || consumed == 0)
@@ -267,7 +273,24 @@ bool RawlogReader::next(LogEvent& ev)
 		if (!obj) continue;
 
 		auto handleObservation = [&](const mrpt::obs::CObservation::Ptr& o) {
-			if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
+			auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o);
+			if (!scan && isSliceable(*o))
+			{
+				// A 3D lidar or an RGB-D camera: mapped through its horizontal slice.
+				std::string why;
+				scan = sliceObservation(*o, d.opts.slice, &why);
+				if (!scan)
+				{
+					++m_stats.skipped;
+					if (why.empty()) why = "no point between " + std::to_string(d.opts.slice.minHeight) + " and " +
+										   std::to_string(d.opts.slice.maxHeight) + " m of height";
+					if (d.sliceWarned.insert(why).second)
+						warn(m_path + ": object " + std::to_string(d.objects) + " (" + o->GetRuntimeClass()->className +
+							 ", sensor " + o->sensorLabel + "): " + why + ", skipped (and others like it)");
+					return;
+				}
+			}
+			if (scan)
 			{
 				if (scan->getScanSize() < 2)
 				{
@@ -370,7 +393,7 @@ bool RawlogReader::next(LogEvent& ev)
 			for (const auto& o : *sf)
 			{
 				if (!o) continue;
-				if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o)) hasScan = true;
+				if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o) || isSliceable(*o)) hasScan = true;
 				if (o->timestamp != INVALID_TIMESTAMP)
 				{
 					const double t = mrpt::Clock::toDouble(o->timestamp);

@@ -119,6 +119,10 @@ const Key kKeys[] = {
 	{"LoopClosure", "background", Type::Bool},
 	{"Log", "noReturnRange", Type::Number},
 	{"Log", "odometrySource", Type::Word},
+	{"Log", "sliceMinHeight", Type::Number},
+	{"Log", "sliceMaxHeight", Type::Number},
+	{"Log", "sliceResolution_deg", Type::Number},
+	{"Log", "sliceMaxRange", Type::Number},
 };
 
 std::size_t editDistance(const std::string& a, const std::string& b)
@@ -294,6 +298,16 @@ SlamConfig parseChecked(const std::string& iniText, const std::string& sourceNam
 		c.loopClosure.loadFromConfigFile(cfg, "LoopClosure");
 		c.log.noReturnRange = cfg.read_double("Log", "noReturnRange", c.log.noReturnRange);
 		if (!(c.log.noReturnRange > 0)) throw std::invalid_argument("[Log] noReturnRange: expected a range > 0 m");
+		auto& sl = c.log.slice;
+		sl.minHeight = cfg.read_double("Log", "sliceMinHeight", sl.minHeight);
+		sl.maxHeight = cfg.read_double("Log", "sliceMaxHeight", sl.maxHeight);
+		sl.resolution = mrpt::DEG2RAD(cfg.read_double("Log", "sliceResolution_deg", mrpt::RAD2DEG(sl.resolution)));
+		sl.maxRange = cfg.read_double("Log", "sliceMaxRange", sl.maxRange);
+		if (!(sl.minHeight < sl.maxHeight))
+			throw std::invalid_argument("[Log] sliceMinHeight, sliceMaxHeight: expected sliceMinHeight < sliceMaxHeight (m)");
+		if (!(sl.resolution >= mrpt::DEG2RAD(0.05) && sl.resolution <= mrpt::DEG2RAD(10)))
+			throw std::invalid_argument("[Log] sliceResolution_deg: expected 0.05..10 degrees");
+		if (!(sl.maxRange > 0 && sl.maxRange <= 1000)) throw std::invalid_argument("[Log] sliceMaxRange: expected 0..1000 m");
 		c.odometrySource = parseOdometrySource(trim(cfg.read_string("Log", "odometrySource", "auto")), where);
 	}
 	catch (const ConfigError&)

@@ -26,6 +26,8 @@
  */
 #pragma once
 
+#include <pmslam/sensor/ScanSlice.h>
+
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -87,6 +89,8 @@ struct LogReaderOptions
 	/** Rawlog: a child process reads each object first (see RawlogReader.h); one that
 	 * takes longer than this (s) counts as damage, as MRPT's readers can spin on it. */
 	double rawlogObjectTimeout = 10.0;
+	/** Rawlog: 3D lidar and RGB-D observations are mapped through this horizontal slice (ScanSlice.h). */
+	ScanSliceOptions slice;
 };
 
 /** Thrown by LogReader::open() and the reader constructors: one line naming
