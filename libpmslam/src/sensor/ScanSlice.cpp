@@ -82,6 +82,16 @@ mrpt::obs::CObservation2DRangeScan::Ptr sliceObservation(const mrpt::obs::CObser
 			if (why) *why = "a 3D range scan without a range image";
 			return nullptr;
 		}
+		// MRPT's conversion trusts the image and the camera model: a damaged one is not handed to it.
+		const auto& cp = r->cameraParams;
+		const auto rows = r->rangeImage.rows(), cols = r->rangeImage.cols();
+		if (rows <= 0 || cols <= 0 || rows > 8192 || cols > 8192 || std::size_t(rows) != cp.nrows ||
+			std::size_t(cols) != cp.ncols || !(cp.fx() > 0) || !(cp.fy() > 0) || !std::isfinite(cp.cx()) ||
+			!std::isfinite(cp.cy()) || !(r->rangeUnits > 0) || !std::isfinite(r->rangeUnits))
+		{
+			if (why) *why = "a 3D range scan whose range image does not fit its camera model";
+			return nullptr;
+		}
 		// MRPT's own conversion, reprojected to the robot origin, within the height band.
 		mrpt::obs::T3DPointsTo2DScanParams p;
 		p.sensorLabel = o.sensorLabel + "_slice";
@@ -106,6 +116,11 @@ mrpt::obs::CObservation2DRangeScan::Ptr sliceObservation(const mrpt::obs::CObser
 	{
 		if (v->point_cloud.size() == 0)
 		{
+			if (v->calibration.empty())
+			{
+				if (why) *why = "a Velodyne scan with neither a point cloud nor a calibration to make one";
+				return nullptr;
+			}
 			// The log kept the raw packets only: MRPT generates the points from them.
 			mrpt::obs::CObservationVelodyneScan copy = *v;
 			copy.generatePointCloud();
