@@ -5,8 +5,12 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <pmslam/io/MapExport.h>
 
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <vector>
 #include <string>
 
 #include "RunProgram.h"
@@ -168,4 +172,49 @@ TEST(ThreeDRawlogs, MrptSampleLogsAreMapped)
 		EXPECT_EQ(r.exitCode, 2) << r.output;
 		EXPECT_NE(r.output.find("elevation angles"), std::string::npos) << r.output;
 	}
+}
+
+// The pose graph pm-slam-app writes (graph.graph) is read and optimised by MRPT's graph-slam, and
+// agrees with the final trajectory: its vertices are the keyframes where trajectory.txt has them
+// (with the reported trajectory's odometry smoothing off, which otherwise moves a scan off its match).
+TEST_F(MrptTools, GraphSlamReadsOurPoseGraph)
+{
+	if (!fs::exists("/usr/bin/graph-slam")) GTEST_SKIP() << "graph-slam not installed (package mrpt-apps)";
+	pmslam::testing::ScratchDir dir("graph-slam");
+	const fs::path out = dir.dir / "out";
+	const auto slam = run(quote(kApp) + " --quiet --no-progress --set MappingApplication.odometrySmoothing=false --out " +
+						  quote(out.string()) + " " + quote(kSample));
+	ASSERT_EQ(slam.exitCode, 0) << slam.output;
+	const fs::path graph = out / "graph.graph", optimised = out / "graph-slam-out.graph";
+	ASSERT_TRUE(fs::exists(graph));
+	const auto r = run("env -u DISPLAY timeout 120 graph-slam --2d --levmarq -q -i " + quote(graph.string()) + " -o " +
+					   quote(optimised.string()) + " </dev/null");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	ASSERT_TRUE(fs::exists(optimised)) << r.output;
+	// Every vertex of our graph is at a pose of the final trajectory (the keyframes are scans).
+	std::ifstream g(graph), t(out / "trajectory.txt");
+	std::vector<std::array<double, 3>> traj;
+	for (std::string line; std::getline(t, line);)
+	{
+		if (line.empty() || line[0] == '#') continue;
+		double ts, x, y, yaw;
+		if (std::sscanf(line.c_str(), "%lf %lf %lf %lf", &ts, &x, &y, &yaw) == 4) traj.push_back({x, y, yaw});
+	}
+	std::size_t vertices = 0, onTrajectory = 0;
+	double worst = 0;
+	for (std::string line; std::getline(g, line);)
+	{
+		double x, y, phi;
+		unsigned id;
+		if (std::sscanf(line.c_str(), "VERTEX_SE2 %u %lf %lf %lf", &id, &x, &y, &phi) != 4) continue;
+		++vertices;
+		double nearest = 1e9;
+		for (const auto& p : traj) nearest = std::min(nearest, std::hypot(p[0] - x, p[1] - y));
+		worst = std::max(worst, nearest);
+		onTrajectory += nearest < 1e-3;
+	}
+	std::printf("graph.graph: %zu vertices, %zu exactly on trajectory.txt, the farthest %.3f m from it\n", vertices,
+				onTrajectory, worst);
+	EXPECT_GT(vertices, 20u);
+	EXPECT_EQ(onTrajectory, vertices);
 }
