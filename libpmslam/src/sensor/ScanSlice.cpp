@@ -87,7 +87,8 @@ mrpt::obs::CObservation2DRangeScan::Ptr sliceObservation(const mrpt::obs::CObser
 		const auto rows = r->rangeImage.rows(), cols = r->rangeImage.cols();
 		if (rows <= 0 || cols <= 0 || rows > 8192 || cols > 8192 || std::size_t(rows) != cp.nrows ||
 			std::size_t(cols) != cp.ncols || !(cp.fx() > 0) || !(cp.fy() > 0) || !std::isfinite(cp.cx()) ||
-			!std::isfinite(cp.cy()) || !(r->rangeUnits > 0) || !std::isfinite(r->rangeUnits))
+			!std::isfinite(cp.cy()) || !(r->rangeUnits > 0) || !std::isfinite(r->rangeUnits) ||
+			!r->sensorPose.asVectorVal().array().isFinite().all())
 		{
 			if (why) *why = "a 3D range scan whose range image does not fit its camera model";
 			return nullptr;
