@@ -6,9 +6,9 @@
  * the map at the corrected poses, so that later scans match a consistent map.
  *
  * - Nodes: every keyframe, with its scan points. Edges between consecutive keyframes: the
- *   front-end's relative pose; information from the match's curvature (the PM Hessian,
- *   optimistic as it treats the points as independent: divided by informationScale, which
- *   was calibrated on the benchmark logs against their relations) plus an odometry-like floor
+ *   front-end's relative pose; information from the match's curvature (the PM Hessian divided
+ *   by informationScale, calibrated on the benchmark logs against their relations) plus an
+ *   odometry-like floor
  *   (a plain corridor leaves the Hessian singular along it). Across a stretch where tracking
  *   was lost, the edge has only a loose odometry information.
  * - Loop detection, at most every detectEvery metres driven: the candidates are the keyframes
