@@ -48,8 +48,10 @@ the sample log that MRPT installs is mapped:
   )" "%s" R"(
 
 options (before or after LOG):
-  --config FILE           INI configuration (sections [PerfectMatch], [MappingApplication], [Log];
-                          every key is documented in config/default.ini)
+  --config FILE           INI configuration (sections [PerfectMatch], [MappingApplication], [LoopClosure],
+                          [Log]; every key is documented in config/default.ini). An MRPT icp-slam INI file
+                          works too: what means the same is read (its rawlog_file is the LOG and its
+                          logOutput_dir the --out when none is given), the rest is named in a note
   --set SECTION.KEY=VALUE override one configuration key (repeatable)
   --out DIR               output folder (default ./pmslam-out)
   --max-scans N           stop after N scans (0 = all)
@@ -64,9 +66,10 @@ options (before or after LOG):
   --quiet                 no summary, only warnings and errors
   -h, --help              this text
 
-outputs in DIR: trajectory.txt (timestamp x y yaw, one line per scan), map.png,
-map.pgm + map.yaml (ROS map_server), map.gridmap.gz and map.simplemap.gz (MRPT),
-timing.txt (per-scan milliseconds and tracking state). Exit status: 0 done, 2 bad input or
+outputs in DIR: trajectory.txt (timestamp x y yaw, one line per scan; after loop closure),
+trajectory_online.txt (each pose as known when its scan arrived), graph.graph (the pose graph,
+MRPT .graph format), map.png, map.pgm + map.yaml (ROS map_server), map.gridmap.gz and
+map.simplemap.gz (MRPT), timing.txt (per-scan milliseconds and tracking state). Exit status: 0 done, 2 bad input or
 configuration, 1 failure while running, 3 done but tracking was lost (no match accepted) for more
 than --max-untracked seconds of log somewhere (outputs written, each such span warned about),
 130 interrupted (outputs still written).
