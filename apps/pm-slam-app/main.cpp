@@ -479,6 +479,11 @@ int main(int argc, char** argv)
 
 	if (!args.quiet)
 	{
+		const auto mb = [](std::size_t bytes) {
+			char b[32];
+			std::snprintf(b, sizeof b, "%.1f MB", double(bytes) / (1024.0 * 1024.0));
+			return std::string(b);
+		};
 		std::vector<double> total;
 		total.reserve(timing.size());
 		for (const auto& t : timing) total.push_back(t.matchMs + t.updateMs);
@@ -515,8 +520,9 @@ int main(int argc, char** argv)
 		const auto now = pmslam::residentMemoryNow();
 		std::printf(
 			"  peak memory %.1f MB (at the end: %.1f MB own, %.1f MB mapped library files; map: grid + distance "
-			"layer %.1f MB)\n",
-			pmslam::peakResidentMemoryMB(), now.anonymousMB, now.fileMB, slam.grid().memoryBytes() / (1024.0 * 1024.0));
+			"layer %.1f MB%s)\n",
+			pmslam::peakResidentMemoryMB(), now.anonymousMB, now.fileMB, slam.grid().memoryBytes() / (1024.0 * 1024.0),
+			slam.loopClosure() ? (", loop closure " + mb(slam.loopClosure()->memoryBytes())).c_str() : "");
 		if (!args.localize.empty())
 			std::printf("  localised on %s (unchanged): %s/map.png, trajectory: %s/trajectory.txt\n",
 						args.localize.c_str(), args.out.c_str(), args.out.c_str());

@@ -3,6 +3,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/graph/LoopClosure.h>
+#include <malloc.h>
 #include <pmslam/match/CorrelativeSearch.h>
 
 #include <algorithm>
@@ -240,6 +241,20 @@ std::optional<LoopClosure::Update> LoopClosure::finish()
 	return last;
 }
 
+std::size_t LoopClosure::memoryBytes() const
+{
+	std::size_t b = m_nodes.capacity() * sizeof(Node) + m_published.capacity() * sizeof(TPose2D) +
+					m_links.capacity() * sizeof(m_links[0]) + m_matches.capacity() * sizeof(Match);
+	for (const auto& n : m_nodes)
+		b += sizeof(ScanPoints) + (n.scan->hits.capacity() + n.scan->freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
+	for (const auto& [pose, scan] : m_fixed)
+		b += (scan.hits.capacity() + scan.freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
+	// The graph: a map node and an edge record each (std::map nodes hold ~4 pointers of overhead).
+	b += m_graph.nodeCount() * (sizeof(TPose2D) + sizeof(PoseGraph::NodeId) + 4 * sizeof(void*)) +
+		 m_graph.edgeCount() * sizeof(PoseGraphEdge);
+	return b;
+}
+
 std::vector<std::pair<std::size_t, std::size_t>> LoopClosure::loopEdges() const
 {
 	std::vector<std::pair<std::size_t, std::size_t>> out;
@@ -252,6 +267,7 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node)
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	JobResult r;
+	const std::size_t attempts = m_stats.attempts;
 	detect(node);
 	++m_sinceOptimization;
 	if (optimizeIfDue(node, m_loopOpen))
@@ -259,6 +275,9 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node)
 		r.optimized = true;
 		r.grid = rebuildIfMoved(r.correction);
 	}
+	// The local maps just verified against were thousands of small distance blocks: hand the freed
+	// pages back, or they stay resident in this thread's heap (glibc keeps them for reuse).
+	if (m_stats.attempts != attempts) malloc_trim(0);
 	r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return r;
 }

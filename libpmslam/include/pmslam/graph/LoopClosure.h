@@ -156,6 +156,9 @@ class LoopClosure
 	const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& loopLinks() const { return m_links; }
 	/** Counters; complete after finish() (the worker updates them while it runs). */
 	const LoopClosureStats& stats() const { return m_stats; }
+	/** Heap bytes held: the keyframes' points, the graph, the published poses (not the worker's
+	 * transient local maps and rebuilt grid). Valid while no worker runs. */
+	std::size_t memoryBytes() const;
 	/** Loop edges accepted so far: (from, to) node ids. */
 	std::vector<std::pair<std::size_t, std::size_t>> loopEdges() const;
 
