@@ -336,7 +336,8 @@ int main(int argc, char** argv)
 		for (const auto& [i, p] : slam.takeSmoothedPoses(finish))
 			if (i < traj.size()) traj[i].x = p.x, traj[i].y = p.y, traj[i].yaw = p.phi;
 	};
-	// The live view: each pose moved with its keyframe where the graph has it, and the closures.
+	// Each pose moved with its keyframe to where the graph has it (the live view, and the final
+	// trajectory once the graph is final); and the closures, for the live view.
 	auto corrected = [&](const pmslam::Trajectory& t) {
 		if (!slam.loopClosure()) return t;
 		std::vector<mrpt::math::TPose2D> poses;
@@ -416,11 +417,7 @@ int main(int argc, char** argv)
 	try
 	{
 		slam.finishLoopClosure();
-		std::vector<mrpt::math::TPose2D> poses;
-		poses.reserve(traj.size());
-		for (const auto& p : traj) poses.emplace_back(p.x, p.y, p.yaw);
-		poses = slam.correctedTrajectory(poses);
-		for (std::size_t i = 0; i < traj.size(); ++i) traj[i].x = poses[i].x, traj[i].y = poses[i].y, traj[i].yaw = poses[i].phi;
+		traj = corrected(traj);
 	}
 	catch (const std::exception& e)
 	{

@@ -27,7 +27,6 @@ struct RingRun
 	std::vector<TPose2D> truth, final, online;
 	std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> grid;
 	pmslam::LoopClosureStats stats;
-	std::size_t lapScans = 0;
 };
 
 // Odometry 3 % long, turning 0.25 degrees per metre too much, with noise: after a lap of 350 m
@@ -52,14 +51,15 @@ std::vector<TPose2D> badOdometry(const std::vector<TPose2D>& truth)
 	return out;
 }
 
-RingRun drive(const SyntheticWorld& world, const std::vector<TPose2D>& truth, bool loopClosure, double degenerateBelow)
+// SLAM over `world` along `truth` (a 30 m, 181-beam laser) with `odometry`, the builder set up by
+// `configure`: the online and final trajectories, the final grid and the back-end's counters.
+RingRun drive(const SyntheticWorld& world, const std::vector<TPose2D>& truth, const std::vector<TPose2D>& odometry,
+			  const std::function<void(pmslam::PerfectMatchSlam&)>& configure)
 {
 	RingRun r;
 	r.truth = truth;
-	const auto odometry = badOdometry(truth);
 	pmslam::PerfectMatchSlam slam;
-	slam.LC_options.enabled = loopClosure;
-	slam.PM_options.degenerateBelow = degenerateBelow;
+	configure(slam);
 	slam.initialize();
 	for (std::size_t k = 0; k < truth.size(); ++k)
 	{
@@ -76,6 +76,14 @@ RingRun drive(const SyntheticWorld& world, const std::vector<TPose2D>& truth, bo
 	r.grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(static_cast<const mrpt::maps::COccupancyGridMap2D&>(slam.grid()));
 	if (slam.loopClosure()) r.stats = slam.loopClosure()->stats();
 	return r;
+}
+
+RingRun drive(const SyntheticWorld& world, const std::vector<TPose2D>& truth, bool loopClosure, double degenerateBelow)
+{
+	return drive(world, truth, badOdometry(truth), [&](pmslam::PerfectMatchSlam& slam) {
+		slam.LC_options.enabled = loopClosure;
+		slam.PM_options.degenerateBelow = degenerateBelow;
+	});
 }
 
 // Occupied cells of a grid: a place mapped twice at two poses has its walls twice.
@@ -187,6 +195,25 @@ std::vector<TPose2D> twinPath()
 	return p;
 }
 
+// Good odometry: 1 % long, a little heading noise.
+std::vector<TPose2D> twinOdometry(const std::vector<TPose2D>& truth)
+{
+	std::mt19937 rng(5);
+	std::normal_distribution<double> n(0, 1);
+	std::vector<TPose2D> out;
+	CPose2D odo;
+	for (std::size_t k = 0; k < truth.size(); ++k)
+	{
+		if (k)
+		{
+			const CPose2D d = CPose2D(truth[k]) - CPose2D(truth[k - 1]);
+			odo = odo + CPose2D(d.x() * (1.01 + 0.005 * n(rng)), d.y(), d.phi() + mrpt::DEG2RAD(0.2) * n(rng));
+		}
+		out.push_back(odo.asTPose());
+	}
+	return out;
+}
+
 struct TwinRun
 {
 	pmslam::LoopClosureStats stats;
@@ -195,38 +222,15 @@ struct TwinRun
 
 TwinRun driveTwins(const std::function<void(pmslam::LoopClosureOptions&)>& configure)
 {
-	const SyntheticWorld world = twinCorridors();
 	const auto truth = twinPath();
-	std::mt19937 rng(5);
-	std::normal_distribution<double> n(0, 1);
-	pmslam::PerfectMatchSlam slam;
-	configure(slam.LC_options);
-	slam.initialize();
-	CPose2D odo;
-	std::vector<TPose2D> online;
-	for (std::size_t k = 0; k < truth.size(); ++k)
-	{
-		if (k)
-		{
-			const CPose2D d = CPose2D(truth[k]) - CPose2D(truth[k - 1]);
-			odo = odo + CPose2D(d.x() * (1.01 + 0.005 * n(rng)), d.y(), d.phi() + mrpt::DEG2RAD(0.2) * n(rng));
-		}
-		const double t = 1000 + 0.1 * double(k);
-		auto scan = world.scan(truth[k], 181, M_PI, 30.0, 0.01, unsigned(k + 1));
-		scan.timestamp = mrpt::Clock::fromDouble(t);
-		slam.processOdometry(odo.asTPose(), t);
-		online.push_back(slam.processScan(scan).pose);
-		for (const auto& [i, p] : slam.takeSmoothedPoses()) online[i] = p;
-	}
-	for (const auto& [i, p] : slam.takeSmoothedPoses(true)) online[i] = p;
-	slam.finishLoopClosure();
-	const auto final = slam.correctedTrajectory(online);
+	const RingRun run = drive(twinCorridors(), truth, twinOdometry(truth),
+							  [&](pmslam::PerfectMatchSlam& slam) { configure(slam.LC_options); });
 	TwinRun r;
-	r.stats = slam.loopClosure()->stats();
+	r.stats = run.stats;
 	for (std::size_t k = 0; k < truth.size(); ++k)
 	{
 		const CPose2D t = CPose2D(truth[k]) - CPose2D(truth[0]);
-		r.maxError = std::max(r.maxError, std::hypot(final[k].x - t.x(), final[k].y - t.y()));
+		r.maxError = std::max(r.maxError, std::hypot(run.final[k].x - t.x(), run.final[k].y - t.y()));
 	}
 	return r;
 }

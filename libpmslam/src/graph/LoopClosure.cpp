@@ -226,13 +226,8 @@ std::optional<LoopClosure::Update> LoopClosure::finish()
 	std::optional<Update> u = sync();
 	const auto t0 = std::chrono::steady_clock::now();
 	std::optional<Update> last;
-	if (m_pendingLoops > 0 && optimizeIfDue(m_nodes.size() - 1, true))
-	{
-		JobResult r;
-		r.optimized = true;
-		r.grid = rebuildIfMoved(r.correction);
-		last = take(std::move(r));
-	}
+	JobResult r;
+	if (optimizeAndRebuild(true, r)) last = take(std::move(r));
 	m_stats.backendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	m_stats.rejected = 0;
 	for (const auto& e : m_graph.edges()) m_stats.rejected += e.kind == PoseGraphEdgeKind::Loop && e.rejected;
@@ -255,14 +250,6 @@ std::size_t LoopClosure::memoryBytes() const
 	return b;
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> LoopClosure::loopEdges() const
-{
-	std::vector<std::pair<std::size_t, std::size_t>> out;
-	for (const auto& e : m_graph.edges())
-		if (e.kind == PoseGraphEdgeKind::Loop && !e.rejected) out.emplace_back(e.from, e.to);
-	return out;
-}
-
 LoopClosure::JobResult LoopClosure::runJob(std::size_t node)
 {
 	const auto t0 = std::chrono::steady_clock::now();
@@ -270,11 +257,7 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node)
 	const std::size_t attempts = m_stats.attempts;
 	detect(node);
 	++m_sinceOptimization;
-	if (optimizeIfDue(node, m_loopOpen))
-	{
-		r.optimized = true;
-		r.grid = rebuildIfMoved(r.correction);
-	}
+	optimizeAndRebuild(m_loopOpen, r);
 	// The local maps just verified against were thousands of small distance blocks: hand the freed
 	// pages back, or they stay resident in this thread's heap (glibc keeps them for reuse).
 	if (m_stats.attempts != attempts) malloc_trim(0);
@@ -435,7 +418,15 @@ bool LoopClosure::agree(const Match& a, const Match& b) const
 	return std::hypot(d.x, d.y) <= m_opts.agreeLinear && std::abs(d.phi) <= m_opts.agreeAngular;
 }
 
-bool LoopClosure::optimizeIfDue(std::size_t, bool force)
+bool LoopClosure::optimizeAndRebuild(bool force, JobResult& r)
+{
+	if (!optimizeIfDue(force)) return false;
+	r.optimized = true;
+	r.grid = rebuildIfMoved(r.correction);
+	return true;
+}
+
+bool LoopClosure::optimizeIfDue(bool force)
 {
 	if (m_pendingLoops == 0 || (!force && m_sinceOptimization < m_opts.optimizeEvery)) return false;
 	if (!force)

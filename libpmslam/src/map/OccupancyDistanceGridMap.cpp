@@ -275,10 +275,8 @@ double OccupancyDistanceGridMap::inFreeSpaceFraction(const std::vector<mrpt::mat
 	for (const auto& p : points)
 	{
 		const double wx = pose.x + c * p.x - s * p.y, wy = pose.y + s * p.x + c * p.y;
-		const int ix = x2idx(wx), iy = y2idx(wy);
-		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) continue;
-		const auto cell = getRawMap()[std::size_t(iy) * getSizeX() + ix];
-		if (cell <= 0) continue;  // unexplored or occupied
+		const cellType* cell = cellAt(wx, wy);
+		if (!cell || *cell <= 0) continue;	// outside, unexplored or occupied
 		if (m_distance.cellDistance(m_distance.worldToCell(wx), m_distance.worldToCell(wy)) > margin) ++n;
 	}
 	return double(n) / double(points.size());

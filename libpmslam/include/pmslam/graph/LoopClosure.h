@@ -159,8 +159,6 @@ class LoopClosure
 	/** Heap bytes held: the keyframes' points, the graph, the published poses (not the worker's
 	 * transient local maps and rebuilt grid). Valid while no worker runs. */
 	std::size_t memoryBytes() const;
-	/** Loop edges accepted so far: (from, to) node ids. */
-	std::vector<std::pair<std::size_t, std::size_t>> loopEdges() const;
 
    private:
 	struct Node
@@ -188,7 +186,9 @@ class LoopClosure
 	void detect(std::size_t node);
 	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow);
 	bool agree(const Match& a, const Match& b) const;
-	bool optimizeIfDue(std::size_t node, bool force);
+	bool optimizeIfDue(bool force);
+	// optimizeIfDue(), then the map rebuilt if a keyframe moved: into r. False when nothing was optimised.
+	bool optimizeAndRebuild(bool force, JobResult& r);
 	std::shared_ptr<OccupancyDistanceGridMap> rebuildIfMoved(mrpt::poses::CPose2D& correction);
 	Eigen::Matrix3d odometryInformation(const mrpt::math::TPose2D& z, double scale) const;
 	Eigen::Matrix3d toEdgeFrame(const Eigen::Matrix3d& mapFrameInformation, double fromPhi) const;

@@ -90,9 +90,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	/** True where no scan has said anything yet (outside the grid, or a cell at the prior). */
 	bool isUnexplored(double x, double y) const
 	{
-		const int ix = x2idx(x), iy = y2idx(y);
-		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) return true;
-		return getRawMap()[std::size_t(iy) * getSizeX() + ix] == 0;
+		const cellType* c = cellAt(x, y);
+		return !c || *c == 0;
 	}
 	/** The fraction of `points` (robot frame) that land in unexplored cells seen from `pose`. */
 	double unexploredFraction(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose) const;
@@ -119,6 +118,13 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	void internal_clear() override;
 
    private:
+	/** The raw cell (log-odds of free) at world (x, y); nullptr outside the grid. */
+	const cellType* cellAt(double x, double y) const
+	{
+		const int ix = x2idx(x), iy = y2idx(y);
+		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) return nullptr;
+		return &getRawMap()[std::size_t(iy) * getSizeX() + ix];
+	}
 	void ensureContains(double xmin, double ymin, double xmax, double ymax);
 	// Applies one update to cell (ix, iy) of the grid; forwards a flip to the distance map.
 	void applyUpdate(int ix, int iy, int delta);
