@@ -8,6 +8,7 @@
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
 #include <pmslam/io/LogReader.h>
+#include <pmslam/util/LibraryPages.h>
 #include <pmslam/util/RunStatistics.h>
 #include <pmslam/io/MapExport.h>
 #include <pmslam/sensor/ScanPoints.h>
@@ -352,6 +353,10 @@ int main(int argc, char** argv)
 		return slam.loopClosure() ? slam.loopClosure()->loopLinks()
 								  : std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>();
 	};
+	// Start-up is over: the library pages only the loader read go back (util/LibraryPages.h);
+	// PMSLAM_KEEP_LIBRARY_PAGES=1 keeps them (to measure what that saves).
+	const char* keepPages = std::getenv("PMSLAM_KEEP_LIBRARY_PAGES");
+	const double releasedMB = keepPages && *keepPages && *keepPages != '0' ? 0.0 : pmslam::releaseStartupLibraryPages();
 	std::vector<ScanTiming> timing;
 	const auto wallStart = std::chrono::steady_clock::now();
 	auto lastGui = wallStart;
@@ -515,10 +520,13 @@ int main(int argc, char** argv)
 		// The process's peak includes MRPT's shared libraries (~100 MB mapped and relocated at
 		// start-up, before any data); the map's own memory is reported beside it.
 		const auto now = pmslam::residentMemoryNow();
+		const double res = slam.grid().updateOptions().resolution;
 		std::printf(
-			"  peak memory %.1f MB (at the end: %.1f MB own, %.1f MB mapped library files; map: grid + distance "
-			"layer %.1f MB%s)\n",
-			pmslam::peakResidentMemoryMB(), now.anonymousMB, now.fileMB, slam.grid().memoryBytes() / (1024.0 * 1024.0),
+			"  peak memory %.1f MB (at the end: %.1f MB own, %.1f MB mapped library files, %.1f MB of start-up "
+			"library pages given back; map: %.0f m² observed, grid %.1f MB + distance layer %.1f MB%s)\n",
+			pmslam::peakResidentMemoryMB(), now.anonymousMB, now.fileMB, releasedMB,
+			slam.grid().cells().observedCells() * res * res, slam.grid().cells().memoryBytes() / (1024.0 * 1024.0),
+			slam.grid().distanceMap().memoryBytes() / (1024.0 * 1024.0),
 			slam.loopClosure() ? (", loop closure " + mb(slam.loopClosure()->memoryBytes())).c_str() : "");
 		if (!args.localize.empty())
 			std::printf("  localised on %s (unchanged): %s/map.png, trajectory: %s/trajectory.txt\n",

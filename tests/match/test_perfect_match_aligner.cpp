@@ -126,6 +126,7 @@ TEST(PerfectMatchAligner, LiveDistanceLayerMatchesStockGridResult)
 	pmslam::OccupancyDistanceGridMap live;
 	for (const TPose2D p : {TPose2D(0, 0, 0), TPose2D(1, -1, 1.5), TPose2D(-2, 1, -1.0), TPose2D(3.5, 0, 2.5)})
 		live.insertScan(pmslam::scanToPoints(world.scan(p, 361)), p);
+	live.materialize();	 // the dense MRPT view of the sparse cells
 	const mrpt::maps::COccupancyGridMap2D& stock = live;  // the same cells seen as a plain MRPT grid
 	mrpt::maps::COccupancyGridMap2D copy = stock;  // a plain copy: the aligner builds its own layer
 	const TPose2D truth(0.8, 0.4, 0.7);

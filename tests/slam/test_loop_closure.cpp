@@ -73,7 +73,7 @@ RingRun drive(const SyntheticWorld& world, const std::vector<TPose2D>& truth, co
 	for (const auto& [i, p] : slam.takeSmoothedPoses(true)) r.online[i] = p;
 	slam.finishLoopClosure();
 	r.final = slam.correctedTrajectory(r.online);
-	r.grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(static_cast<const mrpt::maps::COccupancyGridMap2D&>(slam.grid()));
+	r.grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(slam.grid().denseCopy());
 	if (slam.loopClosure()) r.stats = slam.loopClosure()->stats();
 	return r;
 }

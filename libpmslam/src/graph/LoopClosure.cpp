@@ -174,6 +174,9 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 						 hessian(0, 0), hessian(0, 1), hessian(0, 2), hessian(1, 1), hessian(1, 2), hessian(2, 2));
 			std::fclose(f);
 		}
+	// Kept for the rest of the run: without the slack of the vectors they were built in.
+	scan.hits.shrink_to_fit();
+	scan.freeEnds.shrink_to_fit();
 	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose});
 	m_published.push_back(m_graph.pose(id));
 	if (m_opts.background)

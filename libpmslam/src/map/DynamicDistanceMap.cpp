@@ -25,11 +25,12 @@ DynamicDistanceMap::DynamicDistanceMap(double resolution, double maxDistance)
 	const double r = maxDistance / resolution;
 	// Relative slack: a float resolution (0.05f) must not turn 10 cells into 9.99999.
 	m_maxSq = static_cast<int>(std::floor(r * r * (1.0 + 1e-6)));
-	m_sqrtLut.resize(m_maxSq + 1);
+	m_unit = static_cast<float>(maxDistance / kFarQ);
+	m_distLut.resize(m_maxSq + 1);
 	for (int i = 0; i <= m_maxSq; ++i)
-		m_sqrtLut[i] = static_cast<float>(std::min(std::sqrt(double(i)) * resolution, maxDistance));
+		m_distLut[i] = static_cast<uint16_t>(std::lround(std::min(std::sqrt(double(i)) * resolution, maxDistance) / maxDistance * kFarQ));
 	m_buckets.resize(m_maxSq + 1);
-	m_farBlock = std::make_unique<Block>(static_cast<float>(maxDistance));
+	m_farBlock = std::make_unique<Block>();
 }
 
 DynamicDistanceMap::~DynamicDistanceMap() = default;
@@ -38,9 +39,7 @@ DynamicDistanceMap& DynamicDistanceMap::operator=(DynamicDistanceMap&&) noexcept
 
 void DynamicDistanceMap::clear()
 {
-	m_dir.clear();
-	m_bx0 = m_by0 = m_nbx = m_nby = 0;
-	m_blockCount = 0;
+	m_blocks.clear();
 	for (auto& b : m_buckets) b.clear();
 	m_minBucket = 0;
 	m_queued = 0;
@@ -53,63 +52,20 @@ int DynamicDistanceMap::worldToCell(double v) const
 
 DynamicDistanceMap::Ref DynamicDistanceMap::ref(int cx, int cy) const
 {
-	const int bx = blockOf(cx) - m_bx0, by = blockOf(cy) - m_by0;
-	if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby) return {};
-	return Ref{m_dir[std::size_t(by) * m_nbx + bx].get(), inBlock(cx, cy)};
+	return Ref{m_blocks.find(blockOf(cx), blockOf(cy)), inBlock(cx, cy)};
 }
 
 bool DynamicDistanceMap::isObstacle(int cx, int cy) const
 {
 	const Ref r = ref(cx, cy);
-	return r && (r.flags() & kOccupied);
-}
-
-void DynamicDistanceMap::growDirectory(int bx, int by)
-{
-	if (m_nbx == 0)
-	{
-		// First block: start with a small window around it.
-		m_bx0 = bx - 4;
-		m_by0 = by - 4;
-		m_nbx = m_nby = 9;
-		m_dir.resize(std::size_t(m_nbx) * m_nby);
-		return;
-	}
-	int x0 = m_bx0, y0 = m_by0, x1 = m_bx0 + m_nbx, y1 = m_by0 + m_nby;	 // [x0,x1)
-	// Grow by at least half the current size on the side that is exceeded,
-	// so a robot driving in one direction causes O(log) reallocations.
-	if (bx < x0) x0 = std::min(bx, x0 - std::max(4, m_nbx / 2));
-	if (bx >= x1) x1 = std::max(bx + 1, x1 + std::max(4, m_nbx / 2));
-	if (by < y0) y0 = std::min(by, y0 - std::max(4, m_nby / 2));
-	if (by >= y1) y1 = std::max(by + 1, y1 + std::max(4, m_nby / 2));
-	const int nbx = x1 - x0, nby = y1 - y0;
-	std::vector<std::unique_ptr<Block>> dir(std::size_t(nbx) * nby);
-	for (int j = 0; j < m_nby; ++j)
-		for (int i = 0; i < m_nbx; ++i)
-			dir[std::size_t(j + m_by0 - y0) * nbx + (i + m_bx0 - x0)] = std::move(m_dir[std::size_t(j) * m_nbx + i]);
-	m_dir.swap(dir);
-	m_bx0 = x0;
-	m_by0 = y0;
-	m_nbx = nbx;
-	m_nby = nby;
+	return r && r.cell().obstacle();
 }
 
 DynamicDistanceMap::Ref DynamicDistanceMap::refAlloc(int cx, int cy)
 {
-	int bx = blockOf(cx) - m_bx0, by = blockOf(cy) - m_by0;
-	if (bx < 0 || by < 0 || bx >= m_nbx || by >= m_nby)
-	{
-		growDirectory(blockOf(cx), blockOf(cy));
-		bx = blockOf(cx) - m_bx0;
-		by = blockOf(cy) - m_by0;
-	}
-	auto& slot = m_dir[std::size_t(by) * m_nbx + bx];
-	if (!slot)
-	{
-		slot = std::make_unique<Block>(static_cast<float>(m_maxDistance));
-		++m_blockCount;
-	}
-	return Ref{slot.get(), inBlock(cx, cy)};
+	Block& b = m_blocks.obtain(blockOf(cx), blockOf(cy),
+							   [] { return std::make_unique<Block>(); });
+	return Ref{&b, inBlock(cx, cy)};
 }
 
 void DynamicDistanceMap::push(int key, int cx, int cy)
@@ -123,18 +79,16 @@ void DynamicDistanceMap::push(int key, int cx, int cy)
 void DynamicDistanceMap::addObstacle(int cx, int cy)
 {
 	const Ref r = refAlloc(cx, cy);
-	if (r.flags() & kOccupied) return;
-	r.flags() |= kOccupied;
-	assign(r, 0, 0, 0);
+	if (r.cell().obstacle()) return;
+	assign(r, 0, 0, 0);	 // also ends a pending raise: the obstacle is back
 	push(0, cx, cy);
 }
 
 void DynamicDistanceMap::removeObstacle(int cx, int cy)
 {
 	const Ref r = ref(cx, cy);
-	if (!r || !(r.flags() & kOccupied)) return;
-	r.flags() = static_cast<uint8_t>((r.flags() & ~kOccupied) | kToRaise);
-	assign(r, kFar, 0, 0);
+	if (!r || !r.cell().obstacle()) return;
+	markRaise(r);
 	push(0, cx, cy);
 }
 
@@ -145,18 +99,17 @@ void DynamicDistanceMap::raise(int cx, int cy)
 	{
 		const int nx = cx + d[0], ny = cy + d[1];
 		const Ref n = ref(nx, ny);
-		if (!n || n.cell().sqd == kFar || (n.flags() & kToRaise)) continue;
-		const int key = n.cell().sqd;
+		if (!n || n.cell().far()) continue;	// nothing to invalidate, or already raising
+		const int key = n.cell().sqd();
 		if (!isObstacle(nx + n.cell().ox, ny + n.cell().oy))
 		{
 			// n pointed at a vanished obstacle: invalidate it and carry the raise on.
-			assign(n, kFar, 0, 0);
-			n.flags() |= kToRaise;
+			markRaise(n);
 		}
 		// Valid neighbours are re-queued so that their lower wave refills the raised area.
 		push(key, nx, ny);
 	}
-	if (const Ref r = ref(cx, cy)) r.flags() &= static_cast<uint8_t>(~kToRaise);
+	if (const Ref r = ref(cx, cy); r && r.cell().raising()) r.cell().oy = 0;	// far, raise done
 }
 
 void DynamicDistanceMap::lower(int cx, int cy, const Cell& c)
@@ -169,7 +122,7 @@ void DynamicDistanceMap::lower(int cx, int cy, const Cell& c)
 		const int sq = dx * dx + dy * dy;
 		if (sq > m_maxSq) continue;
 		const Ref n = refAlloc(nx, ny);
-		if ((n.flags() & kToRaise) || sq >= n.cell().sqd) continue;
+		if (n.cell().raising() || sq >= n.cell().sqd()) continue;
 		assign(n, sq, dx, dy);
 		push(sq, nx, ny);
 	}
@@ -189,9 +142,9 @@ std::size_t DynamicDistanceMap::update()
 
 		const Ref r = ref(cx, cy);
 		if (!r) continue;
-		if (r.flags() & kToRaise)
+		if (r.cell().raising())
 			raise(cx, cy);
-		else if (r.cell().sqd != kFar && isObstacle(cx + r.cell().ox, cy + r.cell().oy))
+		else if (r.cell().sqd() != kFar && isObstacle(cx + r.cell().ox, cy + r.cell().oy))
 		{
 			const Cell copy = r.cell();	 // lower() may reallocate the directory, not the block
 			lower(cx, cy, copy);
@@ -199,52 +152,41 @@ std::size_t DynamicDistanceMap::update()
 		// Buckets only hold keys >= m_minBucket unless push() lowered it; push() keeps it exact.
 	}
 	m_minBucket = 0;
+	// A map built in one go (a rebuild) queues most of its cells at once: give that memory back
+	// rather than keep it for the few cells a scan flips.
+	for (auto& b : m_buckets)
+		if (b.capacity() > 4096) std::vector<std::pair<int, int>>().swap(b);
 	return processed;
 }
 
 int DynamicDistanceMap::squaredDistanceCells(int cx, int cy) const
 {
 	const Ref r = ref(cx, cy);
-	if (!r || r.cell().sqd == kFar) return -1;
-	return r.cell().sqd;
+	if (!r || r.cell().sqd() == kFar) return -1;
+	return r.cell().sqd();
 }
 
 float DynamicDistanceMap::cellDistance(int cx, int cy) const
 {
 	const Ref r = ref(cx, cy);
-	return r ? r.block->dist[r.i] : static_cast<float>(m_maxDistance);
+	return r ? r.block->dist[r.i] * m_unit : static_cast<float>(m_maxDistance);
 }
 
 std::size_t DynamicDistanceMap::memoryBytes() const
 {
-	std::size_t bytes = (m_blockCount + 1) * sizeof(Block) + m_dir.capacity() * sizeof(m_dir[0]) +
-						m_sqrtLut.capacity() * sizeof(float);
+	std::size_t bytes = m_blocks.memoryBytes() + sizeof(Block) + m_distLut.capacity() * sizeof(uint16_t);
 	for (const auto& b : m_buckets) bytes += b.capacity() * sizeof(b[0]) + sizeof(b);
 	return bytes;
 }
 
 bool DynamicDistanceMap::touchedBounds(int& minX, int& minY, int& maxX, int& maxY) const
 {
-	bool any = false;
-	for (int j = 0; j < m_nby; ++j)
-		for (int i = 0; i < m_nbx; ++i)
-		{
-			if (!m_dir[std::size_t(j) * m_nbx + i]) continue;
-			const int x0 = (i + m_bx0) * kBlockSide, y0 = (j + m_by0) * kBlockSide;
-			if (!any)
-			{
-				minX = x0;
-				minY = y0;
-				maxX = x0 + kBlockSide - 1;
-				maxY = y0 + kBlockSide - 1;
-				any = true;
-			}
-			minX = std::min(minX, x0);
-			minY = std::min(minY, y0);
-			maxX = std::max(maxX, x0 + kBlockSide - 1);
-			maxY = std::max(maxY, y0 + kBlockSide - 1);
-		}
-	return any;
+	if (!m_blocks.bounds(minX, minY, maxX, maxY)) return false;
+	minX *= kBlockSide;
+	minY *= kBlockSide;
+	maxX = (maxX + 1) * kBlockSide - 1;
+	maxY = (maxY + 1) * kBlockSide - 1;
+	return true;
 }
 
 }  // namespace pmslam

@@ -56,10 +56,12 @@ void OccupancyGridUpdateOptions::dumpToTextStream(std::ostream& out) const
 }
 
 OccupancyDistanceGridMap::OccupancyDistanceGridMap(const TUpdateOptions& opts)
-	: COccupancyGridMap2D(-10.f, 10.f, -10.f, 10.f, static_cast<float>(opts.resolution)),
+	: COccupancyGridMap2D(0.f, static_cast<float>(opts.resolution), 0.f, static_cast<float>(opts.resolution),
+						  static_cast<float>(opts.resolution)),
 	  m_opts(opts),
 	  m_distance(opts.resolution, opts.maxDistance)
 {
+	static_assert(sizeof(cellType) == sizeof(SparseOccupancyGrid::Cell), "MRPT built with 8-bit occupancy cells");
 	requireProbability(opts.hitProbability, "hitProbability");
 	requireProbability(opts.missProbability, "missProbability");
 	requireProbability(opts.clampProbability, "clampProbability");
@@ -72,44 +74,70 @@ OccupancyDistanceGridMap::OccupancyDistanceGridMap(const TUpdateOptions& opts)
 	internal_clear();
 }
 
+void OccupancyDistanceGridMap::shrinkBase()
+{
+	// The dense view at its smallest: one cell at the origin.
+	const float r = static_cast<float>(m_opts.resolution);
+	setSize(0.f, r, 0.f, r, r, 0.5f);
+	m_map.shrink_to_fit();
+}
+
 void OccupancyDistanceGridMap::internal_clear()
 {
 	COccupancyGridMap2D::internal_clear();
-	// Keep the grid origin on a multiple of the resolution so grid cells and
-	// distance-map cells are the same cells.
-	const double r = getResolution();
-	setSize(static_cast<float>(std::round(-10.0 / r) * r), static_cast<float>(std::round(10.0 / r) * r),
-			static_cast<float>(std::round(-10.0 / r) * r), static_cast<float>(std::round(10.0 / r) * r),
-			static_cast<float>(r), 0.5f);
-	m_offX = static_cast<int>(std::lround(getXMin() / r));
-	m_offY = static_cast<int>(std::lround(getYMin() / r));
+	shrinkBase();
+	m_cells.clear();
 	m_distance.clear();
-	m_stamp.assign(std::size_t(getSizeX()) * getSizeY(), 0);
-	m_scanId = 0;
 }
 
-void OccupancyDistanceGridMap::ensureContains(double xmin, double ymin, double xmax, double ymax)
+void OccupancyDistanceGridMap::releaseMaterialized() { shrinkBase(); }
+
+namespace
 {
-	if (xmin >= getXMin() && ymin >= getYMin() && xmax < getXMax() && ymax < getYMax()) return;
-	const double r = getResolution(), margin = 5.0;
-	auto down = [r](double v) { return static_cast<float>(std::floor(v / r) * r); };
-	auto up = [r](double v) { return static_cast<float>(std::ceil(v / r) * r); };
-	const float nx0 = std::min<float>(getXMin(), down(xmin - margin));
-	const float ny0 = std::min<float>(getYMin(), down(ymin - margin));
-	const float nx1 = std::max<float>(getXMax(), up(xmax + margin));
-	const float ny1 = std::max<float>(getYMax(), up(ymax + margin));
-	resizeGrid(nx0, nx1, ny0, ny1, 0.5f, false);
-	const int offX = static_cast<int>(std::lround(getXMin() / r)), offY = static_cast<int>(std::lround(getYMin() / r));
-	if (std::abs(getXMin() - offX * r) > 1e-3 * r || std::abs(getYMin() - offY * r) > 1e-3 * r)
-		throw std::logic_error("OccupancyDistanceGridMap: grid origin left the resolution lattice after resizing");
-	m_offX = offX;
-	m_offY = offY;
-	m_stamp.assign(std::size_t(getSizeX()) * getSizeY(), 0);
+// Sizes `grid` to the cells' allocated blocks (edges on the lattice: grid cell (ix, iy) is lattice
+// cell (x0 + ix, y0 + iy)) and copies the cells in; one cell at the origin when there are none.
+void fillDense(const SparseOccupancyGrid& cells, double r, mrpt::maps::COccupancyGridMap2D& grid)
+{
+	int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+	if (!cells.allocatedBounds(x0, y0, x1, y1)) x1 = y1 = 0;
+	grid.setSize(static_cast<float>(x0 * r), static_cast<float>((x1 + 1) * r), static_cast<float>(y0 * r),
+				 static_cast<float>((y1 + 1) * r), static_cast<float>(r), 0.5f);
+	const int sx = int(grid.getSizeX()), sy = int(grid.getSizeY());
+	if (sx != x1 - x0 + 1 || sy != y1 - y0 + 1)
+		throw std::logic_error("OccupancyDistanceGridMap: MRPT sized the dense grid differently");
+	for (int iy = 0; iy < sy; ++iy) cells.readRow(y0 + iy, x0, sx, grid.getRow(iy));
+}
+}  // namespace
+
+void OccupancyDistanceGridMap::materialize()
+{
+	fillDense(m_cells, m_opts.resolution, *this);
+	m_is_empty = m_cells.blockCount() == 0;
 }
 
-void OccupancyDistanceGridMap::applyUpdate(int ix, int iy, int delta)
+mrpt::maps::COccupancyGridMap2D OccupancyDistanceGridMap::denseCopy() const
 {
-	cellType& cell = m_map[std::size_t(iy) * m_size_x + ix];
+	mrpt::maps::COccupancyGridMap2D g;
+	g.insertionOptions = insertionOptions;
+	g.likelihoodOptions = likelihoodOptions;
+	fillDense(m_cells, m_opts.resolution, g);
+	return g;
+}
+
+void OccupancyDistanceGridMap::assignCells(const mrpt::maps::COccupancyGridMap2D& grid, int offX, int offY)
+{
+	m_cells.clear();
+	const auto& raw = grid.getRawMap();
+	const unsigned sx = grid.getSizeX(), sy = grid.getSizeY();
+	for (unsigned iy = 0; iy < sy; ++iy)
+		for (unsigned ix = 0; ix < sx; ++ix)
+			if (const auto c = raw[std::size_t(iy) * sx + ix]; c != 0) m_cells.at(int(ix) + offX, int(iy) + offY) = c;
+	m_is_empty = false;
+	rebuildDistanceMap();
+}
+
+void OccupancyDistanceGridMap::applyUpdate(int cx, int cy, SparseOccupancyGrid::Cell& cell, int delta)
+{
 	const bool wasOccupied = cell < 0;
 	const int v = std::clamp(int(cell) + delta, -m_clamp, m_clamp);
 	cell = static_cast<cellType>(v);
@@ -118,9 +146,9 @@ void OccupancyDistanceGridMap::applyUpdate(int ix, int iy, int delta)
 	++m_flips;
 	if (m_deferDistance) return;
 	if (occupied)
-		m_distance.addObstacle(ix + m_offX, iy + m_offY);
+		m_distance.addObstacle(cx, cy);
 	else
-		m_distance.removeObstacle(ix + m_offX, iy + m_offY);
+		m_distance.removeObstacle(cx, cy);
 }
 
 std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose)
@@ -128,37 +156,32 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
 	auto toWorld = [&](double x, double y) { return std::pair<double, double>(pose.x + c * x - s * y, pose.y + s * x + c * y); };
 	const auto [ox, oy] = toWorld(scan.sensorOrigin.x, scan.sensorOrigin.y);
-
-	double x0 = ox, y0 = oy, x1 = ox, y1 = oy;
-	auto grow = [&](const mrpt::math::TPoint2Df& p) {
-		const auto [wx, wy] = toWorld(p.x, p.y);
-		x0 = std::min(x0, wx);
-		x1 = std::max(x1, wx);
-		y0 = std::min(y0, wy);
-		y1 = std::max(y1, wy);
+	// Every point checked before any cell changes: a bad scan leaves the map as it was.
+	// Beyond ±10^7 cells (500 km at 5 cm) a coordinate is garbage, not a map.
+	const double limit = 1e7 * m_opts.resolution;
+	auto valid = [limit](double wx, double wy) { return std::abs(wx) < limit && std::abs(wy) < limit; };
+	bool ok = valid(ox, oy);
+	for (const auto* pts : {&scan.hits, &scan.freeEnds})
+		for (const auto& p : *pts)
+		{
+			const auto [wx, wy] = toWorld(p.x, p.y);
+			ok = ok && valid(wx, wy);
+		}
+	if (!ok) throw std::invalid_argument("OccupancyDistanceGridMap::insertScan: non-finite or absurd pose or point");
+	auto cellIndex = [&](double wx, double wy) {
+		return std::pair<int, int>(m_distance.worldToCell(wx), m_distance.worldToCell(wy));
 	};
-	for (const auto& p : scan.hits) grow(p);
-	for (const auto& p : scan.freeEnds) grow(p);
-	if (!std::isfinite(x0 + x1 + y0 + y1)) throw std::invalid_argument("OccupancyDistanceGridMap::insertScan: non-finite pose or point");
-	ensureContains(x0, y0, x1, y1);
 
-	if (++m_scanId == 0)
-	{
-		std::fill(m_stamp.begin(), m_stamp.end(), 0);
-		m_scanId = 1;
-	}
+	m_cells.beginPass();
 	m_flips = 0;
-	const int sx = x2idx(ox), sy = y2idx(oy);
+	const auto [sx, sy] = cellIndex(ox, oy);
 	auto cellOf = [&](const mrpt::math::TPoint2Df& p) {
 		const auto [wx, wy] = toWorld(p.x, p.y);
-		return std::pair<int, int>(x2idx(wx), y2idx(wy));
+		return cellIndex(wx, wy);
 	};
-	// Each cell is updated at most once per scan: the stamp says it was done.
+	// Each cell is updated at most once per scan.
 	auto touch = [&](int x, int y, int delta) {
-		auto& st = m_stamp[std::size_t(y) * m_size_x + x];
-		if (st == m_scanId) return;
-		st = m_scanId;
-		applyUpdate(x, y, delta);
+		if (SparseOccupancyGrid::Cell* cell = m_cells.visitOnce(x, y)) applyUpdate(x, y, *cell, delta);
 	};
 	// Visits the cells of the Bresenham line from (x, y) to (ex, ey), the end excluded.
 	auto line = [&](int x, int y, int ex, int ey, int delta) {
@@ -211,7 +234,7 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 		auto cellBefore = [&](double back) {
 			const double t = 1.0 - back / len;
 			const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
-			return std::pair<int, int>(x2idx(wx), y2idx(wy));
+			return cellIndex(wx, wy);
 		};
 		if (stopShort > 0 && (len <= stopShort || (carve > 0 && carve <= stopShort))) return;  // nothing left
 		const auto [ex, ey] = stopShort > 0 ? cellBefore(stopShort) : cellOf(p);
@@ -251,19 +274,23 @@ void OccupancyDistanceGridMap::insertScans(const std::vector<std::pair<mrpt::mat
 void OccupancyDistanceGridMap::rebuildDistanceMap()
 {
 	m_distance.clear();
-	const double r = getResolution();
-	m_offX = static_cast<int>(std::lround(getXMin() / r));
-	m_offY = static_cast<int>(std::lround(getYMin() / r));
-	for (unsigned iy = 0; iy < getSizeY(); ++iy)
-		for (unsigned ix = 0; ix < getSizeX(); ++ix)
-			if (m_map[std::size_t(iy) * m_size_x + ix] < 0) m_distance.addObstacle(int(ix) + m_offX, int(iy) + m_offY);
+	// One row of blocks at a time: the brushfire's queue then holds a row's cells, not the map's
+	// (the layer is the same: adding obstacles to a propagated layer is what update() is for).
+	int row = 0;
+	bool first = true;
+	m_cells.forEachObserved([&](int cx, int cy, SparseOccupancyGrid::Cell v) {
+		const int r = cy >> SparseOccupancyGrid::Blocks::kShift;
+		if (!first && r != row) m_distance.update();
+		row = r;
+		first = false;
+		if (v < 0) m_distance.addObstacle(cx, cy);
+	});
 	m_distance.update();
-	m_stamp.assign(std::size_t(getSizeX()) * getSizeY(), 0);
 }
 
 std::size_t OccupancyDistanceGridMap::memoryBytes() const
 {
-	return m_map.capacity() * sizeof(cellType) + m_stamp.capacity() * sizeof(m_stamp[0]) + m_distance.memoryBytes();
+	return m_map.capacity() * sizeof(cellType) + m_cells.memoryBytes() + m_distance.memoryBytes();
 }
 
 double OccupancyDistanceGridMap::inFreeSpaceFraction(const std::vector<mrpt::math::TPoint2Df>& points,
@@ -275,8 +302,7 @@ double OccupancyDistanceGridMap::inFreeSpaceFraction(const std::vector<mrpt::mat
 	for (const auto& p : points)
 	{
 		const double wx = pose.x + c * p.x - s * p.y, wy = pose.y + s * p.x + c * p.y;
-		const cellType* cell = cellAt(wx, wy);
-		if (!cell || *cell <= 0) continue;	// outside, unexplored or occupied
+		if (cellAt(wx, wy) <= 0) continue;	// unexplored or occupied
 		if (m_distance.cellDistance(m_distance.worldToCell(wx), m_distance.worldToCell(wy)) > margin) ++n;
 	}
 	return double(n) / double(points.size());

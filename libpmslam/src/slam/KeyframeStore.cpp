@@ -151,8 +151,8 @@ void KeyframeStore::saveSimpleMapGz(const std::string& path, const mrpt::maps::C
 
 std::size_t KeyframeStore::memoryBytes() const
 {
-	std::size_t b = m_frames.capacity() * sizeof(Frame) + m_ranges.capacity() * sizeof(float) +
-					m_valid.capacity() + m_intensity.capacity() * sizeof(int32_t);
+	std::size_t b = m_frames.capacity() * sizeof(Frame) + m_ranges.size() * sizeof(float) + m_valid.size() +
+					m_intensity.size() * sizeof(int32_t);
 	for (const auto& g : m_geometries) b += sizeof(Geometry) + g.sensorLabel.capacity();
 	return b;
 }

@@ -680,11 +680,20 @@ void PerfectMatchSlam::saveSimpleMapGz(const std::string& path) const
 	m_keyframes.saveSimpleMapGz(path, m_initialKeyframes);
 }
 
-const mrpt::maps::CMultiMetricMap* PerfectMatchSlam::getCurrentlyBuiltMetricMap() const { return &m_metricMap; }
+const mrpt::maps::CMultiMetricMap* PerfectMatchSlam::getCurrentlyBuiltMetricMap() const
+{
+	// MRPT code reads the grid as a dense COccupancyGridMap2D: give it a snapshot of the cells.
+	m_grid->materialize();
+	return &m_metricMap;
+}
 
 void PerfectMatchSlam::saveCurrentEstimationToImage(const std::string& file, bool)
 {
-	if (!m_grid->saveAsBitmapFile(file)) throw std::runtime_error("cannot write map image '" + file + "'");
+	// MRPT's writer reads the dense view: made for the call, then given back.
+	m_grid->materialize();
+	const bool ok = m_grid->saveAsBitmapFile(file);
+	m_grid->releaseMaterialized();
+	if (!ok) throw std::runtime_error("cannot write map image '" + file + "'");
 }
 
 void PerfectMatchSlam::initializeWithFixedMap(const mrpt::maps::COccupancyGridMap2D& grid,
@@ -708,15 +717,12 @@ void PerfectMatchSlam::initializeWithFixedMap(const mrpt::maps::COccupancyGridMa
 	o.maxDistance = std::max(o.maxDistance, 2 * r);
 	auto fixed = std::make_shared<OccupancyDistanceGridMap>(o);
 	// The distance layer's cell (i, j) is [i·r, (i+1)·r) × [j·r, (j+1)·r): the grid's origin must be
-	// a multiple of r. Grids made by MRPT's setSize() and by pmslam are; then the cells are copied as
-	// they are. Otherwise the same cells are put on the nearest lattice origin (a shift < r/2).
-	const double ax = std::round(grid.getXMin() / r) * r, ay = std::round(grid.getYMin() / r) * r;
-	m_fixedMapShift = {ax - grid.getXMin(), ay - grid.getYMin()};
+	// a multiple of r. Grids made by MRPT's setSize() and by pmslam are; otherwise the same cells are
+	// put on the nearest lattice origin (a shift < r/2). The raw cells are copied as they are.
+	const long offX = std::lround(grid.getXMin() / r), offY = std::lround(grid.getYMin() / r);
+	m_fixedMapShift = {offX * r - grid.getXMin(), offY * r - grid.getYMin()};
 	if (std::abs(m_fixedMapShift.x) <= 1e-3 * r && std::abs(m_fixedMapShift.y) <= 1e-3 * r)
-	{
 		m_fixedMapShift = {0, 0};
-		static_cast<mrpt::maps::COccupancyGridMap2D&>(*fixed) = grid;  // cells, extent, resolution
-	}
 	else
 	{
 		char m[200];
@@ -725,21 +731,10 @@ void PerfectMatchSlam::initializeWithFixedMap(const mrpt::maps::COccupancyGridMa
 			"fixed map origin (%.6f, %.6f) is not a multiple of its resolution %.4f m: map shifted by (%.4f, %.4f) m",
 			grid.getXMin(), grid.getYMin(), r, m_fixedMapShift.x, m_fixedMapShift.y);
 		warn(m);
-		fixed->setSize(static_cast<float>(ax), static_cast<float>(ax + sx * r), static_cast<float>(ay),
-					   static_cast<float>(ay + sy * r), static_cast<float>(r), 0.5f);
-		if (fixed->getSizeX() != sx || fixed->getSizeY() != sy)
-			throw std::logic_error("PerfectMatchSlam::initializeWithFixedMap: shifted grid has a different size");
-		// Cells go through their probability (the raw setter is not public); keep each cell's side
-		// of 0.5 exactly, as that is what makes it an obstacle.
-		for (unsigned y = 0; y < sy; ++y)
-			for (unsigned x = 0; x < sx; ++x)
-			{
-				const auto c = cells[std::size_t(y) * sx + x];
-				const float pFree = grid.getCell(x, y);
-				fixed->setCell(x, y, c < 0 ? std::min(pFree, 0.45f) : c > 0 ? std::max(pFree, 0.55f) : 0.5f);
-			}
 	}
-	fixed->rebuildDistanceMap();
+	if (std::abs(offX) > 1e8 || std::abs(offY) > 1e8)
+		throw std::invalid_argument("PerfectMatchSlam::initializeWithFixedMap: grid origin out of range");
+	fixed->assignCells(grid, int(offX), int(offY));
 
 	m_grid = std::move(fixed);
 	m_metricMap.maps.clear();

@@ -2,6 +2,10 @@
  *
  * Every writer is atomic (temporary file + rename): an interrupted run never
  * leaves a half-written map behind, and the previous file survives a failure.
+ * Every writer streams: images row by row, the gridmap cell row by cell row, so
+ * writing a map costs a row of memory, not a second copy of the map. pmslam's live
+ * map (OccupancyDistanceGridMap) is read from its sparse cells; any other
+ * COccupancyGridMap2D from its dense array.
  *
  * Frames and units: everything is in the grid's own (map) frame, metres and
  * radians; trajectories are robot base poses in that frame. Images show one

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <pmslam/map/BlockDirectory.h>
 #include <vector>
 
 namespace pmslam
@@ -58,7 +59,7 @@ class DynamicDistanceMap
 	/** Distance in metres from the centre of cell (cx, cy), truncated at maxDistance(). */
 	float cellDistance(int cx, int cy) const;
 	/** The same, inline (the correlative search reads millions of cells). */
-	float cellDistanceInline(int cx, int cy) const { return blockAt(cx, cy)->dist[inBlock(cx, cy)]; }
+	float cellDistanceInline(int cx, int cy) const { return blockAt(cx, cy)->dist[inBlock(cx, cy)] * m_unit; }
 
 	/** Distance (metres) at a world point by bilinear interpolation of the 4
 	 * surrounding cell-centre samples, with its analytic gradient (dimensionless,
@@ -84,7 +85,7 @@ class DynamicDistanceMap
 
 	/** Bytes of heap memory held by cells, directory and queue. */
 	std::size_t memoryBytes() const;
-	std::size_t allocatedBlocks() const { return m_blockCount; }
+	std::size_t allocatedBlocks() const { return m_blocks.count(); }
 	/** Inclusive bounds of the cells that have storage (false if none). */
 	bool touchedBounds(int& minX, int& minY, int& maxX, int& maxY) const;
 
@@ -93,36 +94,40 @@ class DynamicDistanceMap
 
 	static int blockOf(int c) { return c >> kBlockShift; }	// floor division, also for negatives
 	static int inBlock(int cx, int cy) { return ((cy & (kBlockSide - 1)) << kBlockShift) | (cx & (kBlockSide - 1)); }
+	static_assert(kBlockShift == BlockDirectory<int>::kShift, "one block lattice for every map layer");
 
    private:
+	// The nearest obstacle cell as an offset (the squared distance is ox² + oy²: 4 bytes a cell,
+	// which is most of the map's memory). An obstacle points at itself, (0, 0); ox == kNone when no
+	// obstacle lies within the truncation, with oy == 1 while the cell waits for a raise wave.
 	struct Cell
 	{
-		int32_t sqd;  // squared distance in cells to (x+ox, y+oy); kFar when none within truncation
-		int16_t ox, oy;	 // offset to the nearest obstacle cell
+		int16_t ox, oy;
+		int32_t sqd() const { return ox == kNone ? kFar : int32_t(ox) * ox + int32_t(oy) * oy; }
+		bool far() const { return ox == kNone; }
+		bool raising() const { return ox == kNone && oy == 1; }
+		bool obstacle() const { return ox == 0 && oy == 0; }
 	};
+	static constexpr int16_t kNone = INT16_MIN;
 	static constexpr int32_t kFar = INT32_MAX;
 	struct Block
 	{
 		static constexpr int N = kBlockSide * kBlockSide;
 		Cell cells[N];
-		// The truncated distance (m) of each cell, kept in step with cells[].sqd: the matcher
-		// reads 4 of these per point, and a plain float load beats a table look-up per sample.
-		float dist[N];
-		uint8_t flags[N];
-		explicit Block(float far)
+		// The truncated distance of each cell, kept in step with cells[].sqd(): the matcher reads
+		// 4 of these per point, and a load and a multiply beat computing it from the offsets.
+		uint16_t dist[N];
+		Block()
 		{
-			for (auto& c : cells) c = Cell{kFar, 0, 0};
-			for (auto& d : dist) d = far;
-			for (auto& f : flags) f = 0;
+			for (auto& c : cells) c = Cell{kNone, 0};
+			for (auto& d : dist) d = kFarQ;
 		}
 	};
 	// Where the matcher looks: the block holding (cx, cy), or a shared all-far block where
 	// nothing was ever written, so the hot path has no null checks.
 	const Block* blockAt(int cx, int cy) const
 	{
-		const unsigned bx = unsigned(blockOf(cx) - m_bx0), by = unsigned(blockOf(cy) - m_by0);
-		if (bx >= unsigned(m_nbx) || by >= unsigned(m_nby)) return m_farBlock.get();
-		const Block* b = m_dir[std::size_t(by) * m_nbx + bx].get();
+		const Block* b = m_blocks.find(blockOf(cx), blockOf(cy));
 		return b ? b : m_farBlock.get();
 	}
 	/** A cell's storage: its block and index there (block null when not allocated). */
@@ -132,14 +137,19 @@ class DynamicDistanceMap
 		int i = 0;
 		explicit operator bool() const { return block != nullptr; }
 		Cell& cell() const { return block->cells[i]; }
-		uint8_t& flags() const { return block->flags[i]; }
 	};
 	Ref ref(int cx, int cy) const;	// no allocation
 	Ref refAlloc(int cx, int cy);
+	// No obstacle within reach any more, and the cells that relied on this one must be told.
+	void markRaise(const Ref& r)
+	{
+		assign(r, kFar, 0, 0);
+		r.block->cells[r.i].oy = 1;
+	}
 	void assign(const Ref& r, int32_t sqd, int ox, int oy)
 	{
-		r.block->cells[r.i] = Cell{sqd, static_cast<int16_t>(ox), static_cast<int16_t>(oy)};
-		r.block->dist[r.i] = sqd == kFar ? static_cast<float>(m_maxDistance) : m_sqrtLut[sqd];
+		r.block->cells[r.i] = sqd == kFar ? Cell{kNone, 0} : Cell{static_cast<int16_t>(ox), static_cast<int16_t>(oy)};
+		r.block->dist[r.i] = sqd == kFar ? kFarQ : m_distLut[sqd];
 	}
 	// The samples of cells (i0, j0), (i0+1, j0), (i0, j0+1), (i0+1, j0+1).
 	void fetch4(int i0, int j0, float& d00, float& d10, float& d01, float& d11) const
@@ -147,23 +157,21 @@ class DynamicDistanceMap
 		if (blockOf(i0) == blockOf(i0 + 1) && blockOf(j0) == blockOf(j0 + 1))
 		{
 			// Common case: all four samples in one block, one directory look-up.
-			const float* d = blockAt(i0, j0)->dist + inBlock(i0, j0);
-			d00 = d[0];
-			d10 = d[1];
-			d01 = d[kBlockSide];
-			d11 = d[kBlockSide + 1];
+			const uint16_t* d = blockAt(i0, j0)->dist + inBlock(i0, j0);
+			d00 = d[0] * m_unit;
+			d10 = d[1] * m_unit;
+			d01 = d[kBlockSide] * m_unit;
+			d11 = d[kBlockSide + 1] * m_unit;
 		}
 		else
 		{
-			d00 = blockAt(i0, j0)->dist[inBlock(i0, j0)];
-			d10 = blockAt(i0 + 1, j0)->dist[inBlock(i0 + 1, j0)];
-			d01 = blockAt(i0, j0 + 1)->dist[inBlock(i0, j0 + 1)];
-			d11 = blockAt(i0 + 1, j0 + 1)->dist[inBlock(i0 + 1, j0 + 1)];
+			d00 = blockAt(i0, j0)->dist[inBlock(i0, j0)] * m_unit;
+			d10 = blockAt(i0 + 1, j0)->dist[inBlock(i0 + 1, j0)] * m_unit;
+			d01 = blockAt(i0, j0 + 1)->dist[inBlock(i0, j0 + 1)] * m_unit;
+			d11 = blockAt(i0 + 1, j0 + 1)->dist[inBlock(i0 + 1, j0 + 1)] * m_unit;
 		}
 	}
-	static constexpr uint8_t kOccupied = 1, kToRaise = 2;
 
-	void growDirectory(int bx, int by);
 	void push(int key, int cx, int cy);
 	void raise(int cx, int cy);
 	void lower(int cx, int cy, const Cell& c);
@@ -171,13 +179,14 @@ class DynamicDistanceMap
 	double m_resolution, m_maxDistance;
 	double m_invResolution;	 // multiplications are cheaper than divisions in distanceAt()
 	int m_maxSq;
-	std::vector<float> m_sqrtLut;  // metres for squared distances 0..m_maxSq
+	// Distances are kept in 16 bits, in units of maxDistance / 65535 (8 µm at 0.5 m): half the
+	// bytes of a float for the array the matcher reads, far below any map's resolution.
+	static constexpr uint16_t kFarQ = 65535;
+	float m_unit;  // metres per unit
+	std::vector<uint16_t> m_distLut;  // units for squared distances 0..m_maxSq
 
-	// Dense directory of block pointers over [m_bx0, m_bx0+m_nbx) × [m_by0, m_by0+m_nby).
-	std::vector<std::unique_ptr<Block>> m_dir;
+	BlockDirectory<Block> m_blocks;
 	std::unique_ptr<Block> m_farBlock;	// read-only stand-in for blocks never allocated
-	int m_bx0 = 0, m_by0 = 0, m_nbx = 0, m_nby = 0;
-	std::size_t m_blockCount = 0;
 
 	// Bucket priority queue keyed by squared distance in cells.
 	std::vector<std::vector<std::pair<int, int>>> m_buckets;

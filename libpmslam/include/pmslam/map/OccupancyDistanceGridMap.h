@@ -12,14 +12,19 @@
  * evidence is clamped so the map can still change when the world does. A cell
  * is an obstacle while its occupancy probability is above 0.5.
  *
- * Serialising or cloning this object through MRPT's RTTI yields a plain
+ * Storage: the cells live in a SparseOccupancyGrid (blocks where scans touched),
+ * on the distance layer's lattice: cell (i, j) covers [i·res, (i+1)·res) ×
+ * [j·res, (j+1)·res). The dense COccupancyGridMap2D underneath is only a view,
+ * filled by materialize() for MRPT code that reads it (getRawMap(), getCell(),
+ * serialisation, CICP…) and then a snapshot until the next materialize(); it is
+ * kept at one cell otherwise, so memory follows the area mapped. pmslam's own
+ * writers read the sparse cells directly (io/MapExport).
+ *
+ * Serialising or cloning a materialised object through MRPT's RTTI yields a plain
  * COccupancyGridMap2D (the distance layer is derived data and is not saved).
  *
  * Frames and units: the map frame, metres; scans are inserted from a robot
- * pose (m, m, rad) in that frame with their points in the robot frame. The
- * grid grows as scans need it, and its origin always stays on a multiple of
- * the resolution, so grid cell (ix, iy) is distance-map cell
- * (ix + xMin/res, iy + yMin/res) of DynamicDistanceMap's global lattice.
+ * pose (m, m, rad) in that frame with their points in the robot frame.
  */
 #pragma once
 
@@ -28,6 +33,7 @@
 #include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
 #include <pmslam/map/DynamicDistanceMap.h>
+#include <pmslam/map/SparseOccupancyGrid.h>
 #include <pmslam/sensor/ScanPoints.h>
 
 #include <cstdint>
@@ -73,6 +79,19 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 
 	const TUpdateOptions& updateOptions() const { return m_opts; }
 	const DynamicDistanceMap& distanceMap() const { return m_distance; }
+	/** The cells themselves (the truth; the COccupancyGridMap2D base is a view of them). */
+	const SparseOccupancyGrid& cells() const { return m_cells; }
+
+	/** Fills the COccupancyGridMap2D base with the cells (extent: the allocated blocks), for MRPT
+	 * code that reads a dense grid. A snapshot: later insertions do not update it. */
+	void materialize();
+	/** A plain MRPT grid holding the cells (the same extent as materialize()); this map is unchanged. */
+	mrpt::maps::COccupancyGridMap2D denseCopy() const;
+	/** Shrinks the base back to one cell (the memory of a materialize()). */
+	void releaseMaterialized();
+	/** Replaces the cells by those of a dense grid whose cell (0, 0) is lattice cell (offX, offY),
+	 * and rebuilds the distance layer. */
+	void assignCells(const mrpt::maps::COccupancyGridMap2D& grid, int offX, int offY);
 
 	/** Inserts one scan (points in the robot frame) seen from robot pose `pose`
 	 * (map frame). Returns how many cells flipped occupied/free. */
@@ -87,12 +106,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	/** Global cell index of world coordinate v. */
 	int worldToGlobalCell(double v) const { return m_distance.worldToCell(v); }
 
-	/** True where no scan has said anything yet (outside the grid, or a cell at the prior). */
-	bool isUnexplored(double x, double y) const
-	{
-		const cellType* c = cellAt(x, y);
-		return !c || *c == 0;
-	}
+	/** True where no scan has said anything yet (a cell at the prior). */
+	bool isUnexplored(double x, double y) const { return cellAt(x, y) == 0; }
 	/** The fraction of `points` (robot frame) that land in unexplored cells seen from `pose`. */
 	double unexploredFraction(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose) const;
 	/** The fraction of `points` (robot frame, seen from `pose`) that land in cells observed free, farther
@@ -106,7 +121,7 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	std::vector<std::size_t> informativePoints(const std::vector<mrpt::math::TPoint2Df>& points,
 											   const mrpt::math::TPose2D& pose) const;  // indices into points
 
-	/** Bytes held by the grid, the distance layer and the scratch buffers. */
+	/** Bytes held by the cells, the distance layer, the scratch buffers and any materialised view. */
 	std::size_t memoryBytes() const;
 
 	/** Rebuilds the distance layer from the grid contents (after loading a grid). */
@@ -118,23 +133,19 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	void internal_clear() override;
 
    private:
-	/** The raw cell (log-odds of free) at world (x, y); nullptr outside the grid. */
-	const cellType* cellAt(double x, double y) const
+	/** The raw cell (log-odds of free) at world (x, y); 0 where never observed. */
+	cellType cellAt(double x, double y) const
 	{
-		const int ix = x2idx(x), iy = y2idx(y);
-		if (ix < 0 || iy < 0 || ix >= int(getSizeX()) || iy >= int(getSizeY())) return nullptr;
-		return &getRawMap()[std::size_t(iy) * getSizeX() + ix];
+		return m_cells.get(m_distance.worldToCell(x), m_distance.worldToCell(y));
 	}
-	void ensureContains(double xmin, double ymin, double xmax, double ymax);
-	// Applies one update to cell (ix, iy) of the grid; forwards a flip to the distance map.
-	void applyUpdate(int ix, int iy, int delta);
+	// Applies one update to a cell (global index); forwards a flip to the distance map.
+	void applyUpdate(int cx, int cy, SparseOccupancyGrid::Cell& cell, int delta);
+	void shrinkBase();
 
 	TUpdateOptions m_opts;
+	SparseOccupancyGrid m_cells;
 	DynamicDistanceMap m_distance;
 	int m_hitDelta, m_missDelta, m_clamp;  // in MRPT log-odds units (free-positive)
-	int m_offX = 0, m_offY = 0;	 // global cell index of grid cell (0,0)
-	std::vector<uint16_t> m_stamp;  // last scan that touched each grid cell (wraps; cleared then)
-	uint16_t m_scanId = 0;
 	std::size_t m_flips = 0;
 	bool m_deferDistance = false;  // insertScans(): the distance layer is rebuilt at the end
 };

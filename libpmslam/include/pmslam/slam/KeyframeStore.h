@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <deque>
 #include <vector>
 
 namespace pmslam
@@ -75,9 +76,10 @@ class KeyframeStore
 	};
 	std::vector<Geometry> m_geometries;
 	std::vector<Frame> m_frames;
-	std::vector<float> m_ranges;
-	std::vector<uint8_t> m_valid;
-	std::vector<int32_t> m_intensity;
+	// Beams of all keyframes in chunks (a vector would double, holding up to twice the data).
+	std::deque<float> m_ranges;
+	std::deque<uint8_t> m_valid;
+	std::deque<int32_t> m_intensity;
 };
 
 }  // namespace pmslam

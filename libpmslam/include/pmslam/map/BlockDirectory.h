@@ -1,0 +1,130 @@
+/* pmslam — a directory of square storage blocks over an unbounded lattice.
+ *
+ * The maps keep their cells in blocks of 32×32 allocated where something is first
+ * written, so memory follows the area touched, not its bounding box. The directory
+ * itself is a dense array of pointers over the blocks' bounding box (8 bytes per
+ * 1024 cells: 3 MB for a square kilometre at 5 cm), so finding a block is two
+ * subtractions and a load, which the matcher's inner loop can afford.
+ *
+ * Block coordinates are cell indices shifted right by kShift (floor division, also
+ * for negative cells).
+ */
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace pmslam
+{
+template <class Block>
+class BlockDirectory
+{
+   public:
+	static constexpr int kShift = 5;
+	static constexpr int kSide = 1 << kShift;
+
+	static int blockOf(int cell) { return cell >> kShift; }
+	/** Index of cell (cx, cy) inside its block, row-major. */
+	static int inBlock(int cx, int cy) { return ((cy & (kSide - 1)) << kShift) | (cx & (kSide - 1)); }
+
+	/** The block (bx, by), or nullptr where none was allocated. */
+	Block* find(int bx, int by) const
+	{
+		const unsigned i = unsigned(bx - m_x0), j = unsigned(by - m_y0);
+		if (i >= unsigned(m_nx) || j >= unsigned(m_ny)) return nullptr;
+		return m_dir[std::size_t(j) * m_nx + i].get();
+	}
+
+	/** The block (bx, by), made by make() (returning std::unique_ptr<Block>) if missing. */
+	template <class Make>
+	Block& obtain(int bx, int by, Make&& make)
+	{
+		if (unsigned(bx - m_x0) >= unsigned(m_nx) || unsigned(by - m_y0) >= unsigned(m_ny)) grow(bx, by);
+		auto& slot = m_dir[std::size_t(by - m_y0) * m_nx + (bx - m_x0)];
+		if (!slot)
+		{
+			slot = make();
+			++m_count;
+		}
+		return *slot;
+	}
+
+	/** Calls f(bx, by, block) for every allocated block, row by row. */
+	template <class F>
+	void forEach(F&& f) const
+	{
+		for (int j = 0; j < m_ny; ++j)
+			for (int i = 0; i < m_nx; ++i)
+				if (const Block* b = m_dir[std::size_t(j) * m_nx + i].get()) f(i + m_x0, j + m_y0, *b);
+	}
+	template <class F>
+	void forEach(F&& f)
+	{
+		for (int j = 0; j < m_ny; ++j)
+			for (int i = 0; i < m_nx; ++i)
+				if (Block* b = m_dir[std::size_t(j) * m_nx + i].get()) f(i + m_x0, j + m_y0, *b);
+	}
+
+	/** Inclusive block bounds of the allocated blocks; false when there are none. */
+	bool bounds(int& bx0, int& by0, int& bx1, int& by1) const
+	{
+		bool any = false;
+		forEach([&](int bx, int by, const Block&) {
+			bx0 = any ? std::min(bx0, bx) : bx;
+			by0 = any ? std::min(by0, by) : by;
+			bx1 = any ? std::max(bx1, bx) : bx;
+			by1 = any ? std::max(by1, by) : by;
+			any = true;
+		});
+		return any;
+	}
+
+	std::size_t count() const { return m_count; }
+	/** Bytes of the blocks and the directory. */
+	std::size_t memoryBytes() const { return m_count * sizeof(Block) + m_dir.capacity() * sizeof(m_dir[0]); }
+	void clear()
+	{
+		std::vector<std::unique_ptr<Block>>().swap(m_dir);  // gives the memory back
+		m_x0 = m_y0 = m_nx = m_ny = 0;
+		m_count = 0;
+	}
+
+   private:
+	void grow(int bx, int by)
+	{
+		if (m_nx == 0)
+		{
+			// First block: a small window around it.
+			m_x0 = bx - 4;
+			m_y0 = by - 4;
+			m_nx = m_ny = 9;
+			m_dir.resize(std::size_t(m_nx) * m_ny);
+			return;
+		}
+		int x0 = m_x0, y0 = m_y0, x1 = m_x0 + m_nx, y1 = m_y0 + m_ny;  // [x0, x1)
+		// Grow by at least half the current size on the side that is exceeded, so a
+		// robot driving in one direction causes O(log) reallocations.
+		if (bx < x0) x0 = std::min(bx, x0 - std::max(4, m_nx / 2));
+		if (bx >= x1) x1 = std::max(bx + 1, x1 + std::max(4, m_nx / 2));
+		if (by < y0) y0 = std::min(by, y0 - std::max(4, m_ny / 2));
+		if (by >= y1) y1 = std::max(by + 1, y1 + std::max(4, m_ny / 2));
+		const int nx = x1 - x0, ny = y1 - y0;
+		std::vector<std::unique_ptr<Block>> dir(std::size_t(nx) * ny);
+		for (int j = 0; j < m_ny; ++j)
+			for (int i = 0; i < m_nx; ++i)
+				dir[std::size_t(j + m_y0 - y0) * nx + (i + m_x0 - x0)] = std::move(m_dir[std::size_t(j) * m_nx + i]);
+		m_dir.swap(dir);
+		m_x0 = x0;
+		m_y0 = y0;
+		m_nx = nx;
+		m_ny = ny;
+	}
+
+	std::vector<std::unique_ptr<Block>> m_dir;	// row-major over [m_x0, m_x0+m_nx) × [m_y0, m_y0+m_ny)
+	int m_x0 = 0, m_y0 = 0, m_nx = 0, m_ny = 0;
+	std::size_t m_count = 0;
+};
+
+}  // namespace pmslam

@@ -1,0 +1,111 @@
+/* pmslam — occupancy cells stored only where scans have touched (see SparseOccupancyGrid.h). */
+#include <pmslam/map/SparseOccupancyGrid.h>
+
+#include <algorithm>
+#include <cstring>
+
+namespace pmslam
+{
+namespace
+{
+std::unique_ptr<SparseOccupancyBlock> newBlock() { return std::make_unique<SparseOccupancyBlock>(); }
+}  // namespace
+
+SparseOccupancyGrid::SparseOccupancyGrid() = default;
+SparseOccupancyGrid::~SparseOccupancyGrid() = default;
+SparseOccupancyGrid::SparseOccupancyGrid(SparseOccupancyGrid&&) noexcept = default;
+SparseOccupancyGrid& SparseOccupancyGrid::operator=(SparseOccupancyGrid&&) noexcept = default;
+
+SparseOccupancyGrid::Cell SparseOccupancyGrid::get(int cx, int cy) const
+{
+	const SparseOccupancyBlock* b = m_blocks.find(Blocks::blockOf(cx), Blocks::blockOf(cy));
+	return b ? b->cells[Blocks::inBlock(cx, cy)] : Cell(0);
+}
+
+SparseOccupancyGrid::Cell& SparseOccupancyGrid::at(int cx, int cy)
+{
+	return m_blocks.obtain(Blocks::blockOf(cx), Blocks::blockOf(cy), newBlock).cells[Blocks::inBlock(cx, cy)];
+}
+
+void SparseOccupancyGrid::beginPass()
+{
+	if (++m_pass == 0)
+	{
+		// 2^32 scans later: forget the old marks rather than confuse them with new ones.
+		m_blocks.forEach([](int, int, SparseOccupancyBlock& b) { b.pass = 0; });
+		m_pass = 1;
+	}
+}
+
+SparseOccupancyGrid::Cell* SparseOccupancyGrid::visitOnce(int cx, int cy)
+{
+	SparseOccupancyBlock& b = m_blocks.obtain(Blocks::blockOf(cx), Blocks::blockOf(cy), newBlock);
+	if (b.pass != m_pass)
+	{
+		std::memset(b.visited, 0, sizeof(b.visited));
+		b.pass = m_pass;
+	}
+	const int i = Blocks::inBlock(cx, cy);
+	uint64_t& word = b.visited[i >> 6];
+	const uint64_t bit = uint64_t(1) << (i & 63);
+	if (word & bit) return nullptr;
+	word |= bit;
+	return &b.cells[i];
+}
+
+bool SparseOccupancyGrid::allocatedBounds(int& x0, int& y0, int& x1, int& y1) const
+{
+	if (!m_blocks.bounds(x0, y0, x1, y1)) return false;
+	x0 *= Blocks::kSide;
+	y0 *= Blocks::kSide;
+	x1 = (x1 + 1) * Blocks::kSide - 1;
+	y1 = (y1 + 1) * Blocks::kSide - 1;
+	return true;
+}
+
+bool SparseOccupancyGrid::evidenceBounds(int& x0, int& y0, int& x1, int& y1) const
+{
+	bool any = false;
+	forEachObserved([&](int cx, int cy, Cell) {
+		x0 = any ? std::min(x0, cx) : cx;
+		y0 = any ? std::min(y0, cy) : cy;
+		x1 = any ? std::max(x1, cx) : cx;
+		y1 = any ? std::max(y1, cy) : cy;
+		any = true;
+	});
+	return any;
+}
+
+void SparseOccupancyGrid::readRow(int cy, int cx0, int n, Cell* out) const
+{
+	constexpr int S = Blocks::kSide;
+	const int by = Blocks::blockOf(cy), row = (cy & (S - 1)) << Blocks::kShift;
+	for (int i = 0; i < n;)
+	{
+		const int cx = cx0 + i;
+		const int run = std::min(n - i, S - (cx & (S - 1)));  // up to the end of this block
+		if (const SparseOccupancyBlock* b = m_blocks.find(Blocks::blockOf(cx), by))
+			std::memcpy(out + i, b->cells + row + (cx & (S - 1)), std::size_t(run));
+		else
+			std::memset(out + i, 0, std::size_t(run));
+		i += run;
+	}
+}
+
+void SparseOccupancyGrid::clear()
+{
+	m_blocks.clear();
+	m_pass = 0;
+}
+
+std::size_t SparseOccupancyGrid::observedCells() const
+{
+	std::size_t n = 0;
+	forEachObserved([&n](int, int, Cell) { ++n; });
+	return n;
+}
+
+std::size_t SparseOccupancyGrid::blockCount() const { return m_blocks.count(); }
+std::size_t SparseOccupancyGrid::memoryBytes() const { return m_blocks.memoryBytes(); }
+
+}  // namespace pmslam
