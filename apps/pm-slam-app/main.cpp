@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <filesystem>
 #include <iostream>
 #include <numeric>
@@ -355,8 +356,18 @@ int main(int argc, char** argv)
 	};
 	// Start-up is over: the library pages only the loader read go back (util/LibraryPages.h);
 	// PMSLAM_KEEP_LIBRARY_PAGES=1 keeps them (to measure what that saves).
+	// PMSLAM_SMAPS_DUMP=FILE: /proc/self/smaps before (FILE.before) and after (FILE.after), for
+	// bench/memory.sh's table of what each library costs at start-up.
+	const char* smapsDump = std::getenv("PMSLAM_SMAPS_DUMP");
+	auto dumpSmaps = [&](const char* suffix) {
+		if (!smapsDump || !*smapsDump) return;
+		std::ifstream in("/proc/self/smaps");
+		std::ofstream(std::string(smapsDump) + suffix) << in.rdbuf();
+	};
+	dumpSmaps(".before");
 	const char* keepPages = std::getenv("PMSLAM_KEEP_LIBRARY_PAGES");
 	const double releasedMB = keepPages && *keepPages && *keepPages != '0' ? 0.0 : pmslam::releaseStartupLibraryPages();
+	dumpSmaps(".after");
 	std::vector<ScanTiming> timing;
 	const auto wallStart = std::chrono::steady_clock::now();
 	auto lastGui = wallStart;
