@@ -67,7 +67,7 @@ run() {
   local t; t=$(grep 'time per scan' "$out.summary" | sed -E 's/.*mean ([0-9.]+) ms, median ([0-9.]+) ms, p99 ([0-9.]+) ms.*/\1 \2 \3/')
   local scans; scans=$(awk '/^ *scans [0-9]+/ {print $2; exit}' "$out.summary" | tr -d ,)
   # Bounding box of the map: map.yaml's resolution and map.pgm's size (the cells with evidence, plus 10).
-  local bbox; bbox=$(awk 'NR==3 {print $1 * $2}' "$out/map.pgm" 2>/dev/null || echo 0)
+  local bbox; bbox=$(head -c 200 "$out/map.pgm" | sed -n 3p | awk '{print $1 * $2}')
   local res; res=$(awk '/^resolution:/ {print $2}' "$out/map.yaml")
   bbox=$(awk -v n="$bbox" -v r="$res" 'BEGIN {printf "%.0f", n * r * r}')
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$name" "$scans" "$peak" "$area" "$bbox" "$grid" "$dist" "$lc" \
