@@ -25,12 +25,11 @@ DynamicDistanceMap::DynamicDistanceMap(double resolution, double maxDistance)
 	const double r = maxDistance / resolution;
 	// Relative slack: a float resolution (0.05f) must not turn 10 cells into 9.99999.
 	m_maxSq = static_cast<int>(std::floor(r * r * (1.0 + 1e-6)));
-	m_unit = static_cast<float>(maxDistance / kFarQ);
-	m_distLut.resize(m_maxSq + 1);
+	m_sqrtLut.resize(m_maxSq + 1);
 	for (int i = 0; i <= m_maxSq; ++i)
-		m_distLut[i] = static_cast<uint16_t>(std::lround(std::min(std::sqrt(double(i)) * resolution, maxDistance) / maxDistance * kFarQ));
+		m_sqrtLut[i] = static_cast<float>(std::min(std::sqrt(double(i)) * resolution, maxDistance));
 	m_buckets.resize(m_maxSq + 1);
-	m_farBlock = std::make_unique<Block>();
+	m_farBlock = std::make_unique<Block>(static_cast<float>(maxDistance));
 }
 
 DynamicDistanceMap::~DynamicDistanceMap() = default;
@@ -64,7 +63,7 @@ bool DynamicDistanceMap::isObstacle(int cx, int cy) const
 DynamicDistanceMap::Ref DynamicDistanceMap::refAlloc(int cx, int cy)
 {
 	Block& b = m_blocks.obtain(blockOf(cx), blockOf(cy),
-							   [] { return std::make_unique<Block>(); });
+							   [this] { return std::make_unique<Block>(static_cast<float>(m_maxDistance)); });
 	return Ref{&b, inBlock(cx, cy)};
 }
 
@@ -169,12 +168,12 @@ int DynamicDistanceMap::squaredDistanceCells(int cx, int cy) const
 float DynamicDistanceMap::cellDistance(int cx, int cy) const
 {
 	const Ref r = ref(cx, cy);
-	return r ? r.block->dist[r.i] * m_unit : static_cast<float>(m_maxDistance);
+	return r ? r.block->dist[r.i] : static_cast<float>(m_maxDistance);
 }
 
 std::size_t DynamicDistanceMap::memoryBytes() const
 {
-	std::size_t bytes = m_blocks.memoryBytes() + sizeof(Block) + m_distLut.capacity() * sizeof(uint16_t);
+	std::size_t bytes = m_blocks.memoryBytes() + sizeof(Block) + m_sqrtLut.capacity() * sizeof(float);
 	for (const auto& b : m_buckets) bytes += b.capacity() * sizeof(b[0]) + sizeof(b);
 	return bytes;
 }

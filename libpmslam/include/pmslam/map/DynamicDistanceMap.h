@@ -59,7 +59,7 @@ class DynamicDistanceMap
 	/** Distance in metres from the centre of cell (cx, cy), truncated at maxDistance(). */
 	float cellDistance(int cx, int cy) const;
 	/** The same, inline (the correlative search reads millions of cells). */
-	float cellDistanceInline(int cx, int cy) const { return blockAt(cx, cy)->dist[inBlock(cx, cy)] * m_unit; }
+	float cellDistanceInline(int cx, int cy) const { return blockAt(cx, cy)->dist[inBlock(cx, cy)]; }
 
 	/** Distance (metres) at a world point by bilinear interpolation of the 4
 	 * surrounding cell-centre samples, with its analytic gradient (dimensionless,
@@ -114,13 +114,14 @@ class DynamicDistanceMap
 	{
 		static constexpr int N = kBlockSide * kBlockSide;
 		Cell cells[N];
-		// The truncated distance of each cell, kept in step with cells[].sqd(): the matcher reads
-		// 4 of these per point, and a load and a multiply beat computing it from the offsets.
-		uint16_t dist[N];
-		Block()
+		// The truncated distance (m) of each cell, kept in step with cells[].sqd(): the matcher reads
+		// 4 of these per point, and a float load beats computing it (a 16-bit copy, measured: 10-15 %
+		// slower per scan on fr079, and the rounding moved intel's runs between their modes).
+		float dist[N];
+		explicit Block(float far)
 		{
 			for (auto& c : cells) c = Cell{kNone, 0};
-			for (auto& d : dist) d = kFarQ;
+			for (auto& d : dist) d = far;
 		}
 	};
 	// Where the matcher looks: the block holding (cx, cy), or a shared all-far block where
@@ -149,7 +150,7 @@ class DynamicDistanceMap
 	void assign(const Ref& r, int32_t sqd, int ox, int oy)
 	{
 		r.block->cells[r.i] = sqd == kFar ? Cell{kNone, 0} : Cell{static_cast<int16_t>(ox), static_cast<int16_t>(oy)};
-		r.block->dist[r.i] = sqd == kFar ? kFarQ : m_distLut[sqd];
+		r.block->dist[r.i] = sqd == kFar ? static_cast<float>(m_maxDistance) : m_sqrtLut[sqd];
 	}
 	// The samples of cells (i0, j0), (i0+1, j0), (i0, j0+1), (i0+1, j0+1).
 	void fetch4(int i0, int j0, float& d00, float& d10, float& d01, float& d11) const
@@ -157,18 +158,18 @@ class DynamicDistanceMap
 		if (blockOf(i0) == blockOf(i0 + 1) && blockOf(j0) == blockOf(j0 + 1))
 		{
 			// Common case: all four samples in one block, one directory look-up.
-			const uint16_t* d = blockAt(i0, j0)->dist + inBlock(i0, j0);
-			d00 = d[0] * m_unit;
-			d10 = d[1] * m_unit;
-			d01 = d[kBlockSide] * m_unit;
-			d11 = d[kBlockSide + 1] * m_unit;
+			const float* d = blockAt(i0, j0)->dist + inBlock(i0, j0);
+			d00 = d[0];
+			d10 = d[1];
+			d01 = d[kBlockSide];
+			d11 = d[kBlockSide + 1];
 		}
 		else
 		{
-			d00 = blockAt(i0, j0)->dist[inBlock(i0, j0)] * m_unit;
-			d10 = blockAt(i0 + 1, j0)->dist[inBlock(i0 + 1, j0)] * m_unit;
-			d01 = blockAt(i0, j0 + 1)->dist[inBlock(i0, j0 + 1)] * m_unit;
-			d11 = blockAt(i0 + 1, j0 + 1)->dist[inBlock(i0 + 1, j0 + 1)] * m_unit;
+			d00 = blockAt(i0, j0)->dist[inBlock(i0, j0)];
+			d10 = blockAt(i0 + 1, j0)->dist[inBlock(i0 + 1, j0)];
+			d01 = blockAt(i0, j0 + 1)->dist[inBlock(i0, j0 + 1)];
+			d11 = blockAt(i0 + 1, j0 + 1)->dist[inBlock(i0 + 1, j0 + 1)];
 		}
 	}
 
@@ -179,11 +180,7 @@ class DynamicDistanceMap
 	double m_resolution, m_maxDistance;
 	double m_invResolution;	 // multiplications are cheaper than divisions in distanceAt()
 	int m_maxSq;
-	// Distances are kept in 16 bits, in units of maxDistance / 65535 (8 µm at 0.5 m): half the
-	// bytes of a float for the array the matcher reads, far below any map's resolution.
-	static constexpr uint16_t kFarQ = 65535;
-	float m_unit;  // metres per unit
-	std::vector<uint16_t> m_distLut;  // units for squared distances 0..m_maxSq
+	std::vector<float> m_sqrtLut;  // metres for squared distances 0..m_maxSq
 
 	BlockDirectory<Block> m_blocks;
 	std::unique_ptr<Block> m_farBlock;	// read-only stand-in for blocks never allocated
