@@ -6,6 +6,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/io/MapExport.h>
+#include <pmslam/map/GridLine.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
 #include <png.h>
 
@@ -57,18 +58,11 @@ class DenseRows : public CellRows
 	{
 		const auto& raw = m_g.getRawMap();
 		const int sx = int(m_g.getSizeX()), sy = int(m_g.getSizeY());
-		bool any = false;
+		CellBounds b;
 		for (int y = 0; y < sy; ++y)
 			for (int x = 0; x < sx; ++x)
-				if (raw[std::size_t(y) * sx + x] != 0)
-				{
-					x0 = any ? std::min(x0, x) : x;
-					x1 = any ? std::max(x1, x) : x;
-					y0 = any ? std::min(y0, y) : y;
-					y1 = any ? std::max(y1, y) : y;
-					any = true;
-				}
-		return any;
+				if (raw[std::size_t(y) * sx + x] != 0) b.add(x, y);
+		return b.get(x0, y0, x1, y1);
 	}
 	bool extent(int& x0, int& y0, int& x1, int& y1) const override
 	{
@@ -210,30 +204,18 @@ class MapPicture
 	// A one-pixel line between two map points, clipped to the picture.
 	void line(double ax, double ay, double bx, double by, Colour colour)
 	{
-		auto [x, y] = toPixel(ax, ay);
+		const auto [x, y] = toPixel(ax, ay);
 		const auto [ex, ey] = toPixel(bx, by);
 		const int w = width(), h = height();
 		if ((x < 0 && ex < 0) || (y < 0 && ey < 0) || (x >= w && ex >= w) || (y >= h && ey >= h)) return;
 		const int dx = std::abs(ex - x), dy = -std::abs(ey - y);
 		if (dx > 4 * (w + h) || -dy > 4 * (w + h)) return;	// a wild pose: not a line to draw
-		const int sx = x < ex ? 1 : -1, sy = y < ey ? 1 : -1;
-		int err = dx + dy;
-		for (;;)
-		{
-			if (x >= 0 && y >= 0 && x < w && y < h) m_marks.push_back({y, x, colour});
-			if (x == ex && y == ey) break;
-			const int e2 = 2 * err;
-			if (e2 >= dy)
-			{
-				err += dy;
-				x += sx;
-			}
-			if (e2 <= dx)
-			{
-				err += dx;
-				y += sy;
-			}
-		}
+		auto mark = [&](int px, int py) {
+			if (px >= 0 && py >= 0 && px < w && py < h) m_marks.push_back({py, px, colour});
+			return true;
+		};
+		forEachCellOnLine(x, y, ex, ey, mark);
+		mark(ex, ey);
 	}
 
 	const CellRows& m_rows;

@@ -3,6 +3,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
+#include <pmslam/map/GridLine.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
 
 #include <algorithm>
@@ -185,24 +186,10 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 	};
 	// Visits the cells of the Bresenham line from (x, y) to (ex, ey), the end excluded.
 	auto line = [&](int x, int y, int ex, int ey, int delta) {
-		const int dx = std::abs(ex - x), dy = -std::abs(ey - y);
-		const int stepX = x < ex ? 1 : -1, stepY = y < ey ? 1 : -1;
-		int err = dx + dy;
-		while (x != ex || y != ey)
-		{
-			touch(x, y, delta);
-			const int e2 = 2 * err;
-			if (e2 >= dy)
-			{
-				err += dy;
-				x += stepX;
-			}
-			if (e2 <= dx)
-			{
-				err += dx;
-				y += stepY;
-			}
-		}
+		forEachCellOnLine(x, y, ex, ey, [&](int cx, int cy) {
+			touch(cx, cy, delta);
+			return true;
+		});
 	};
 	// Hits first, so a cell that is both hit and crossed in this scan counts as hit.
 	const double join2 = m_opts.joinHitsCloserThan * m_opts.joinHitsCloserThan;

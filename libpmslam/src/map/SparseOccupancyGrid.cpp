@@ -65,15 +65,9 @@ bool SparseOccupancyGrid::allocatedBounds(int& x0, int& y0, int& x1, int& y1) co
 
 bool SparseOccupancyGrid::evidenceBounds(int& x0, int& y0, int& x1, int& y1) const
 {
-	bool any = false;
-	forEachObserved([&](int cx, int cy, Cell) {
-		x0 = any ? std::min(x0, cx) : cx;
-		y0 = any ? std::min(y0, cy) : cy;
-		x1 = any ? std::max(x1, cx) : cx;
-		y1 = any ? std::max(y1, cy) : cy;
-		any = true;
-	});
-	return any;
+	CellBounds b;
+	forEachObserved([&b](int cx, int cy, Cell) { b.add(cx, cy); });
+	return b.get(x0, y0, x1, y1);
 }
 
 void SparseOccupancyGrid::readRow(int cy, int cx0, int n, Cell* out) const

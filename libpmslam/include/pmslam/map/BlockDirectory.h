@@ -18,6 +18,27 @@
 
 namespace pmslam
 {
+/** The inclusive bounding box of the cells (or blocks) added to it. */
+struct CellBounds
+{
+	int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+	bool any = false;
+	void add(int x, int y)
+	{
+		x0 = any ? std::min(x0, x) : x;
+		y0 = any ? std::min(y0, y) : y;
+		x1 = any ? std::max(x1, x) : x;
+		y1 = any ? std::max(y1, y) : y;
+		any = true;
+	}
+	/** Copies the box out; false (nothing copied) when nothing was added. */
+	bool get(int& ox0, int& oy0, int& ox1, int& oy1) const
+	{
+		if (any) ox0 = x0, oy0 = y0, ox1 = x1, oy1 = y1;
+		return any;
+	}
+};
+
 template <class Block>
 class BlockDirectory
 {
@@ -70,15 +91,9 @@ class BlockDirectory
 	/** Inclusive block bounds of the allocated blocks; false when there are none. */
 	bool bounds(int& bx0, int& by0, int& bx1, int& by1) const
 	{
-		bool any = false;
-		forEach([&](int bx, int by, const Block&) {
-			bx0 = any ? std::min(bx0, bx) : bx;
-			by0 = any ? std::min(by0, by) : by;
-			bx1 = any ? std::max(bx1, bx) : bx;
-			by1 = any ? std::max(by1, by) : by;
-			any = true;
-		});
-		return any;
+		CellBounds b;
+		forEach([&b](int bx, int by, const Block&) { b.add(bx, by); });
+		return b.get(bx0, by0, bx1, by1);
 	}
 
 	std::size_t count() const { return m_count; }
