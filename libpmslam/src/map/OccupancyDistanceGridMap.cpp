@@ -3,7 +3,6 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
-#include <pmslam/map/GridLine.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
 
 #include <algorithm>
@@ -186,9 +185,8 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 	};
 	// Visits the cells of the Bresenham line from (x, y) to (ex, ey), the end excluded.
 	auto line = [&](int x, int y, int ex, int ey, int delta) {
-		forEachCellOnLine(x, y, ex, ey, [&](int cx, int cy) {
-			touch(cx, cy, delta);
-			return true;
+		m_cells.visitLineOnce(x, y, ex, ey, [&](int cx, int cy, SparseOccupancyGrid::Cell& cell) {
+			applyUpdate(cx, cy, cell, delta);
 		});
 	};
 	// Hits first, so a cell that is both hit and crossed in this scan counts as hit.

@@ -3,28 +3,25 @@
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 namespace pmslam
 {
-namespace
-{
-std::unique_ptr<SparseOccupancyBlock> newBlock() { return std::make_unique<SparseOccupancyBlock>(); }
-}  // namespace
 
 SparseOccupancyGrid::SparseOccupancyGrid() = default;
 SparseOccupancyGrid::~SparseOccupancyGrid() = default;
-SparseOccupancyGrid::SparseOccupancyGrid(SparseOccupancyGrid&&) noexcept = default;
-SparseOccupancyGrid& SparseOccupancyGrid::operator=(SparseOccupancyGrid&&) noexcept = default;
-
-SparseOccupancyGrid::Cell SparseOccupancyGrid::get(int cx, int cy) const
+SparseOccupancyGrid::SparseOccupancyGrid(SparseOccupancyGrid&& o) noexcept { *this = std::move(o); }
+SparseOccupancyGrid& SparseOccupancyGrid::operator=(SparseOccupancyGrid&& o) noexcept
 {
-	const SparseOccupancyBlock* b = m_blocks.find(Blocks::blockOf(cx), Blocks::blockOf(cy));
-	return b ? b->cells[Blocks::inBlock(cx, cy)] : Cell(0);
-}
-
-SparseOccupancyGrid::Cell& SparseOccupancyGrid::at(int cx, int cy)
-{
-	return m_blocks.obtain(Blocks::blockOf(cx), Blocks::blockOf(cy), newBlock).cells[Blocks::inBlock(cx, cy)];
+	if (this == &o) return *this;
+	m_blocks = std::move(o.m_blocks);
+	m_pass = o.m_pass;
+	m_last = o.m_last;	// the blocks moved with the directory; the source keeps none
+	m_lastBx = o.m_lastBx;
+	m_lastBy = o.m_lastBy;
+	o.m_blocks.clear();
+	o.m_last = nullptr;
+	return *this;
 }
 
 void SparseOccupancyGrid::beginPass()
@@ -35,22 +32,6 @@ void SparseOccupancyGrid::beginPass()
 		m_blocks.forEach([](int, int, SparseOccupancyBlock& b) { b.pass = 0; });
 		m_pass = 1;
 	}
-}
-
-SparseOccupancyGrid::Cell* SparseOccupancyGrid::visitOnce(int cx, int cy)
-{
-	SparseOccupancyBlock& b = m_blocks.obtain(Blocks::blockOf(cx), Blocks::blockOf(cy), newBlock);
-	if (b.pass != m_pass)
-	{
-		std::memset(b.visited, 0, sizeof(b.visited));
-		b.pass = m_pass;
-	}
-	const int i = Blocks::inBlock(cx, cy);
-	uint64_t& word = b.visited[i >> 6];
-	const uint64_t bit = uint64_t(1) << (i & 63);
-	if (word & bit) return nullptr;
-	word |= bit;
-	return &b.cells[i];
 }
 
 bool SparseOccupancyGrid::allocatedBounds(int& x0, int& y0, int& x1, int& y1) const
@@ -90,6 +71,7 @@ void SparseOccupancyGrid::clear()
 {
 	m_blocks.clear();
 	m_pass = 0;
+	m_last = nullptr;
 }
 
 std::size_t SparseOccupancyGrid::observedCells() const

@@ -33,6 +33,11 @@ class SparseOccupancyGrid
 	void beginPass();
 	/** The cell's storage the first time it is asked for in the current pass, else nullptr. */
 	Cell* visitOnce(int cx, int cy);
+	/** visitOnce() along the Bresenham line from (x, y) to (ex, ey), the end excluded (the cells
+	 * forEachCellOnLine gives): f(cx, cy, cell) for each cell not yet visited in this pass. The
+	 * insertion's inner loop (every cell a beam crosses), so the block is looked up once per block. */
+	template <class F>
+	void visitLineOnce(int x, int y, int ex, int ey, F&& f);
 
 	/** Inclusive cell bounds of the allocated blocks (false when empty). */
 	bool allocatedBounds(int& x0, int& y0, int& x1, int& y1) const;
@@ -56,8 +61,13 @@ class SparseOccupancyGrid
 	SparseOccupancyGrid& operator=(SparseOccupancyGrid&&) noexcept;
 
    private:
+	SparseOccupancyBlock& blockFor(int cx, int cy);
+
 	Blocks m_blocks;
 	uint32_t m_pass = 0;
+	// The block of the last cell asked for: a beam's cells mostly share one (blocks never move).
+	SparseOccupancyBlock* m_last = nullptr;
+	int m_lastBx = 0, m_lastBy = 0;
 };
 
 struct SparseOccupancyBlock
@@ -67,6 +77,89 @@ struct SparseOccupancyBlock
 	uint32_t pass = 0;	// the pass `visited` belongs to
 	uint64_t visited[N / 64] = {};
 };
+
+// Inline: the scan insertion calls these for every cell a beam crosses.
+inline SparseOccupancyGrid::Cell SparseOccupancyGrid::get(int cx, int cy) const
+{
+	const SparseOccupancyBlock* b = m_blocks.find(Blocks::blockOf(cx), Blocks::blockOf(cy));
+	return b ? b->cells[Blocks::inBlock(cx, cy)] : Cell(0);
+}
+
+inline SparseOccupancyBlock& SparseOccupancyGrid::blockFor(int cx, int cy)
+{
+	const int bx = Blocks::blockOf(cx), by = Blocks::blockOf(cy);
+	if (!m_last || bx != m_lastBx || by != m_lastBy)
+	{
+		m_last = &m_blocks.obtain(bx, by, [] { return std::make_unique<SparseOccupancyBlock>(); });
+		m_lastBx = bx;
+		m_lastBy = by;
+	}
+	return *m_last;
+}
+
+inline SparseOccupancyGrid::Cell& SparseOccupancyGrid::at(int cx, int cy)
+{
+	return blockFor(cx, cy).cells[Blocks::inBlock(cx, cy)];
+}
+
+inline SparseOccupancyGrid::Cell* SparseOccupancyGrid::visitOnce(int cx, int cy)
+{
+	SparseOccupancyBlock& b = blockFor(cx, cy);
+	if (b.pass != m_pass)
+	{
+		for (auto& w : b.visited) w = 0;
+		b.pass = m_pass;
+	}
+	const int i = Blocks::inBlock(cx, cy);
+	uint64_t& word = b.visited[i >> 6];
+	const uint64_t bit = uint64_t(1) << (i & 63);
+	if (word & bit) return nullptr;
+	word |= bit;
+	return &b.cells[i];
+}
+
+template <class F>
+void SparseOccupancyGrid::visitLineOnce(int x, int y, int ex, int ey, F&& f)
+{
+	const int dx = x < ex ? ex - x : x - ex, dy = -(y < ey ? ey - y : y - ey);
+	const int stepX = x < ex ? 1 : -1, stepY = y < ey ? 1 : -1;
+	int err = dx + dy;
+	SparseOccupancyBlock* b = nullptr;
+	int bx = 0, by = 0;
+	while (x != ex || y != ey)
+	{
+		if (!b || Blocks::blockOf(x) != bx || Blocks::blockOf(y) != by)
+		{
+			b = &blockFor(x, y);
+			bx = Blocks::blockOf(x);
+			by = Blocks::blockOf(y);
+			if (b->pass != m_pass)
+			{
+				for (auto& w : b->visited) w = 0;
+				b->pass = m_pass;
+			}
+		}
+		const int i = Blocks::inBlock(x, y);
+		uint64_t& word = b->visited[i >> 6];
+		const uint64_t bit = uint64_t(1) << (i & 63);
+		if (!(word & bit))
+		{
+			word |= bit;
+			f(x, y, b->cells[i]);
+		}
+		const int e2 = 2 * err;
+		if (e2 >= dy)
+		{
+			err += dy;
+			x += stepX;
+		}
+		if (e2 <= dx)
+		{
+			err += dx;
+			y += stepY;
+		}
+	}
+}
 
 template <class F>
 void SparseOccupancyGrid::forEachObserved(F&& f) const
