@@ -187,3 +187,17 @@ TEST(OccupancyDistanceGridMap, ABadScanLeavesTheMapAsItWas)
 	EXPECT_THROW(m.insertScan(pmslam::ScanPoints{}, TPose2D(std::nan(""), 0, 0)), std::invalid_argument);
 	EXPECT_EQ(m.cells().observedCells(), before);
 }
+
+TEST(OccupancyDistanceGridMap, AReadingBeyondAKilometreIsLeftOut)
+{
+	// A damaged range (5 km) would carve a 100 000-cell beam through 3 000 blocks; it is left out,
+	// the rest of the scan goes in.
+	OccupancyDistanceGridMap m;
+	pmslam::ScanPoints scan;
+	scan.hits = {{2.f, 0.f}, {5000.f, 0.f}, {0.f, 2.f}};
+	m.insertScan(scan, TPose2D(0, 0, 0));
+	EXPECT_LT(m.cells().get(40, 0), 0);  // the 2 m return: occupied
+	EXPECT_LT(m.cells().get(0, 40), 0);
+	EXPECT_EQ(m.cells().get(60, 0), 0);	 // nothing carved towards the 5 km one
+	EXPECT_LT(m.cells().blockCount(), 10u);
+}

@@ -14,6 +14,8 @@ namespace pmslam
 {
 namespace
 {
+constexpr double kMaxBeamLength = 1000.0;  // m; see insertScan
+
 // MRPT stores 1/16 natural-log units of the log-odds of a cell being free.
 int freeLogOddsUnits(double pFree)
 {
@@ -174,7 +176,8 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 
 	m_cells.beginPass();
 	m_flips = 0;
-	const auto [sx, sy] = cellIndex(ox, oy);
+	const std::pair<int, int> sensorCell = cellIndex(ox, oy);
+	const int sx = sensorCell.first, sy = sensorCell.second;  // plain ints: lambdas below capture them
 	auto cellOf = [&](const mrpt::math::TPoint2Df& p) {
 		const auto [wx, wy] = toWorld(p.x, p.y);
 		return cellIndex(wx, wy);
@@ -189,17 +192,23 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 			applyUpdate(cx, cy, cell, delta);
 		});
 	};
+	// No planar lidar sees a kilometre: a longer beam is a damaged reading, and would cost a
+	// cell visit and a block per 5 cm / 1.6 m of it.
+	auto tooFar = [&](const mrpt::math::TPoint2Df& p) {
+		return std::hypot(double(p.x) - scan.sensorOrigin.x, double(p.y) - scan.sensorOrigin.y) > kMaxBeamLength;
+	};
 	// Hits first, so a cell that is both hit and crossed in this scan counts as hit.
 	const double join2 = m_opts.joinHitsCloserThan * m_opts.joinHitsCloserThan;
 	for (std::size_t i = 0; i < scan.hits.size(); ++i)
 	{
+		if (tooFar(scan.hits[i])) continue;
 		const auto [ix, iy] = cellOf(scan.hits[i]);
 		touch(ix, iy, m_hitDelta);
 		if (i > 0 && join2 > 0)
 		{
 			const auto& a = scan.hits[i - 1];
 			const auto& b = scan.hits[i];
-			if (double(a.x - b.x) * (a.x - b.x) + double(a.y - b.y) * (a.y - b.y) < join2)
+			if (!tooFar(a) && double(a.x - b.x) * (a.x - b.x) + double(a.y - b.y) * (a.y - b.y) < join2)
 			{
 				const auto [jx, jy] = cellOf(a);
 				line(jx, jy, ix, iy, m_hitDelta);
@@ -228,8 +237,10 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 	};
 	// A beam that ends on a wall seen at a grazing angle crosses the cells just in front of
 	// its endpoint that hold that same wall: stopping the carving short keeps such walls solid.
-	for (const auto& p : scan.hits) carveTo(p, margin);
-	for (const auto& p : scan.freeEnds) carveTo(p, 0.0);
+	for (const auto& p : scan.hits)
+		if (!tooFar(p)) carveTo(p, margin);
+	for (const auto& p : scan.freeEnds)
+		if (!tooFar(p)) carveTo(p, 0.0);
 	if (!m_deferDistance) m_distance.update();
 	m_is_empty = false;
 	return m_flips;

@@ -94,7 +94,9 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	void assignCells(const mrpt::maps::COccupancyGridMap2D& grid, int offX, int offY);
 
 	/** Inserts one scan (points in the robot frame) seen from robot pose `pose`
-	 * (map frame). Returns how many cells flipped occupied/free. */
+	 * (map frame). Returns how many cells flipped occupied/free. Points more than 1 km from the
+	 * sensor are left out (a damaged reading: no planar lidar reaches that far); a non-finite
+	 * pose or point throws std::invalid_argument before any cell changes. */
 	std::size_t insertScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose);
 
 	/** Inserts many scans (a map rebuilt at corrected poses), in order: the same grid as one
