@@ -406,10 +406,9 @@ void saveGridMapGz(const mrpt::maps::COccupancyGridMap2D& grid, const std::strin
 		if (!f.open(tmp)) throw std::runtime_error("cannot write '" + path + "'");
 		if (const auto* live = dynamic_cast<const OccupancyDistanceGridMap*>(&grid))
 		{
-			// The extent materialize() would give: the allocated blocks.
-			int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+			int x0, y0, x1, y1;
+			live->denseExtent(x0, y0, x1, y1);  // what materialize() would hold
 			const double r = live->updateOptions().resolution;
-			if (!live->cells().allocatedBounds(x0, y0, x1, y1)) x1 = y1 = 0;
 			streamSerializedGrid(
 				grid, r, x0, y0, x1 - x0 + 1, y1 - y0 + 1,
 				[&](int cy, Cell* out) { live->cells().readRow(cy, x0, x1 - x0 + 1, out); }, f);

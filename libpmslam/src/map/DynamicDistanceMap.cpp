@@ -180,12 +180,7 @@ std::size_t DynamicDistanceMap::memoryBytes() const
 
 bool DynamicDistanceMap::touchedBounds(int& minX, int& minY, int& maxX, int& maxY) const
 {
-	if (!m_blocks.bounds(minX, minY, maxX, maxY)) return false;
-	minX *= kBlockSide;
-	minY *= kBlockSide;
-	maxX = (maxX + 1) * kBlockSide - 1;
-	maxY = (maxY + 1) * kBlockSide - 1;
-	return true;
+	return m_blocks.cellBounds(minX, minY, maxX, maxY);
 }
 
 }  // namespace pmslam

@@ -96,12 +96,11 @@ void OccupancyDistanceGridMap::releaseMaterialized() { shrinkBase(); }
 
 namespace
 {
-// Sizes `grid` to the cells' allocated blocks (edges on the lattice: grid cell (ix, iy) is lattice
-// cell (x0 + ix, y0 + iy)) and copies the cells in; one cell at the origin when there are none.
-void fillDense(const SparseOccupancyGrid& cells, double r, mrpt::maps::COccupancyGridMap2D& grid)
+// Sizes `grid` to the extent (edges on the lattice: grid cell (ix, iy) is lattice cell
+// (x0 + ix, y0 + iy)) and copies the cells in.
+void fillDense(const SparseOccupancyGrid& cells, double r, int x0, int y0, int x1, int y1,
+			   mrpt::maps::COccupancyGridMap2D& grid)
 {
-	int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-	if (!cells.allocatedBounds(x0, y0, x1, y1)) x1 = y1 = 0;
 	grid.setSize(static_cast<float>(x0 * r), static_cast<float>((x1 + 1) * r), static_cast<float>(y0 * r),
 				 static_cast<float>((y1 + 1) * r), static_cast<float>(r), 0.5f);
 	const int sx = int(grid.getSizeX()), sy = int(grid.getSizeY());
@@ -111,9 +110,16 @@ void fillDense(const SparseOccupancyGrid& cells, double r, mrpt::maps::COccupanc
 }
 }  // namespace
 
+void OccupancyDistanceGridMap::denseExtent(int& x0, int& y0, int& x1, int& y1) const
+{
+	if (!m_cells.allocatedBounds(x0, y0, x1, y1)) x0 = y0 = x1 = y1 = 0;
+}
+
 void OccupancyDistanceGridMap::materialize()
 {
-	fillDense(m_cells, m_opts.resolution, *this);
+	int x0, y0, x1, y1;
+	denseExtent(x0, y0, x1, y1);
+	fillDense(m_cells, m_opts.resolution, x0, y0, x1, y1, *this);
 	m_is_empty = m_cells.blockCount() == 0;
 }
 
@@ -122,7 +128,9 @@ mrpt::maps::COccupancyGridMap2D OccupancyDistanceGridMap::denseCopy() const
 	mrpt::maps::COccupancyGridMap2D g;
 	g.insertionOptions = insertionOptions;
 	g.likelihoodOptions = likelihoodOptions;
-	fillDense(m_cells, m_opts.resolution, g);
+	int x0, y0, x1, y1;
+	denseExtent(x0, y0, x1, y1);
+	fillDense(m_cells, m_opts.resolution, x0, y0, x1, y1, g);
 	return g;
 }
 

@@ -26,6 +26,7 @@ SparseOccupancyGrid& SparseOccupancyGrid::operator=(SparseOccupancyGrid&& o) noe
 
 void SparseOccupancyGrid::beginPass()
 {
+	m_last = nullptr;  // its marks may be the last pass's
 	if (++m_pass == 0)
 	{
 		// 2^32 scans later: forget the old marks rather than confuse them with new ones.
@@ -36,12 +37,7 @@ void SparseOccupancyGrid::beginPass()
 
 bool SparseOccupancyGrid::allocatedBounds(int& x0, int& y0, int& x1, int& y1) const
 {
-	if (!m_blocks.bounds(x0, y0, x1, y1)) return false;
-	x0 *= Blocks::kSide;
-	y0 *= Blocks::kSide;
-	x1 = (x1 + 1) * Blocks::kSide - 1;
-	y1 = (y1 + 1) * Blocks::kSide - 1;
-	return true;
+	return m_blocks.cellBounds(x0, y0, x1, y1);
 }
 
 bool SparseOccupancyGrid::evidenceBounds(int& x0, int& y0, int& x1, int& y1) const

@@ -96,6 +96,17 @@ class BlockDirectory
 		return b.get(bx0, by0, bx1, by1);
 	}
 
+	/** The same in cells: the inclusive cell bounds covered by the allocated blocks. */
+	bool cellBounds(int& x0, int& y0, int& x1, int& y1) const
+	{
+		if (!bounds(x0, y0, x1, y1)) return false;
+		x0 *= kSide;
+		y0 *= kSide;
+		x1 = (x1 + 1) * kSide - 1;
+		y1 = (y1 + 1) * kSide - 1;
+		return true;
+	}
+
 	std::size_t count() const { return m_count; }
 	/** Bytes of the blocks and the directory. */
 	std::size_t memoryBytes() const { return m_count * sizeof(Block) + m_dir.capacity() * sizeof(m_dir[0]); }

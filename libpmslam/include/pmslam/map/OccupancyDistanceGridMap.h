@@ -85,6 +85,9 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	/** Fills the COccupancyGridMap2D base with the cells (extent: the allocated blocks), for MRPT
 	 * code that reads a dense grid. A snapshot: later insertions do not update it. */
 	void materialize();
+	/** The lattice cells the dense view covers (inclusive): the allocated blocks, or the one cell at the
+	 * origin of an empty map. materialize(), denseCopy() and the streamed map.gridmap.gz all use it. */
+	void denseExtent(int& x0, int& y0, int& x1, int& y1) const;
 	/** A plain MRPT grid holding the cells (the same extent as materialize()); this map is unchanged. */
 	mrpt::maps::COccupancyGridMap2D denseCopy() const;
 	/** Shrinks the base back to one cell (the memory of a materialize()). */

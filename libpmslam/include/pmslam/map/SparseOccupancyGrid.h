@@ -11,6 +11,7 @@
 #pragma once
 
 #include <pmslam/map/BlockDirectory.h>
+#include <pmslam/map/GridLine.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -62,6 +63,7 @@ class SparseOccupancyGrid
 
    private:
 	SparseOccupancyBlock& blockFor(int cx, int cy);
+	Cell* claim(SparseOccupancyBlock& b, int i);
 
 	Blocks m_blocks;
 	uint32_t m_pass = 0;
@@ -93,6 +95,13 @@ inline SparseOccupancyBlock& SparseOccupancyGrid::blockFor(int cx, int cy)
 		m_last = &m_blocks.obtain(bx, by, [] { return std::make_unique<SparseOccupancyBlock>(); });
 		m_lastBx = bx;
 		m_lastBy = by;
+		// Marks left by an earlier pass are cleared the first time this pass reaches the block
+		// (beginPass() forgets the cached block, so every block comes through here).
+		if (m_last->pass != m_pass)
+		{
+			for (auto& w : m_last->visited) w = 0;
+			m_last->pass = m_pass;
+		}
 	}
 	return *m_last;
 }
@@ -102,15 +111,10 @@ inline SparseOccupancyGrid::Cell& SparseOccupancyGrid::at(int cx, int cy)
 	return blockFor(cx, cy).cells[Blocks::inBlock(cx, cy)];
 }
 
-inline SparseOccupancyGrid::Cell* SparseOccupancyGrid::visitOnce(int cx, int cy)
+// The cell i of block b (from blockFor(), so its marks are this pass's) if not yet visited in
+// this pass, marking it visited; else nullptr.
+inline SparseOccupancyGrid::Cell* SparseOccupancyGrid::claim(SparseOccupancyBlock& b, int i)
 {
-	SparseOccupancyBlock& b = blockFor(cx, cy);
-	if (b.pass != m_pass)
-	{
-		for (auto& w : b.visited) w = 0;
-		b.pass = m_pass;
-	}
-	const int i = Blocks::inBlock(cx, cy);
 	uint64_t& word = b.visited[i >> 6];
 	const uint64_t bit = uint64_t(1) << (i & 63);
 	if (word & bit) return nullptr;
@@ -118,47 +122,27 @@ inline SparseOccupancyGrid::Cell* SparseOccupancyGrid::visitOnce(int cx, int cy)
 	return &b.cells[i];
 }
 
+inline SparseOccupancyGrid::Cell* SparseOccupancyGrid::visitOnce(int cx, int cy)
+{
+	return claim(blockFor(cx, cy), Blocks::inBlock(cx, cy));
+}
+
 template <class F>
 void SparseOccupancyGrid::visitLineOnce(int x, int y, int ex, int ey, F&& f)
 {
-	const int dx = x < ex ? ex - x : x - ex, dy = -(y < ey ? ey - y : y - ey);
-	const int stepX = x < ex ? 1 : -1, stepY = y < ey ? 1 : -1;
-	int err = dx + dy;
+	// The block is looked up only where the line crosses into another one.
 	SparseOccupancyBlock* b = nullptr;
 	int bx = 0, by = 0;
-	while (x != ex || y != ey)
-	{
-		if (!b || Blocks::blockOf(x) != bx || Blocks::blockOf(y) != by)
+	forEachCellOnLine(x, y, ex, ey, [&](int cx, int cy) {
+		if (!b || Blocks::blockOf(cx) != bx || Blocks::blockOf(cy) != by)
 		{
-			b = &blockFor(x, y);
-			bx = Blocks::blockOf(x);
-			by = Blocks::blockOf(y);
-			if (b->pass != m_pass)
-			{
-				for (auto& w : b->visited) w = 0;
-				b->pass = m_pass;
-			}
+			b = &blockFor(cx, cy);
+			bx = Blocks::blockOf(cx);
+			by = Blocks::blockOf(cy);
 		}
-		const int i = Blocks::inBlock(x, y);
-		uint64_t& word = b->visited[i >> 6];
-		const uint64_t bit = uint64_t(1) << (i & 63);
-		if (!(word & bit))
-		{
-			word |= bit;
-			f(x, y, b->cells[i]);
-		}
-		const int e2 = 2 * err;
-		if (e2 >= dy)
-		{
-			err += dy;
-			x += stepX;
-		}
-		if (e2 <= dx)
-		{
-			err += dx;
-			y += stepY;
-		}
-	}
+		if (Cell* c = claim(*b, Blocks::inBlock(cx, cy))) f(cx, cy, *c);
+		return true;
+	});
 }
 
 template <class F>
