@@ -5,6 +5,7 @@
 #include <pmslam/map/OccupancyDistanceGridMap.h>
 #include <pmslam/map/SparseOccupancyGrid.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -137,8 +138,21 @@ TEST(OccupancyDistanceGridMap, MaterialisedViewAndDenseCopyHoldTheCells)
 			const auto [a, b] = probe(x, y);
 			EXPECT_FLOAT_EQ(a, b) << x << "," << y;
 		}
+	// A scan inserted after the snapshot shows in the next one.
+	const auto observedIn = [](const mrpt::maps::COccupancyGridMap2D& g) {
+		return std::size_t(std::count_if(g.getRawMap().begin(), g.getRawMap().end(), [](auto c) { return c != 0; }));
+	};
+	const auto before = observedIn(m);
+	const auto world = pmslam::testing::furnishedRoom();
+	m.insertScan(pmslam::scanToPoints(world.scan(TPose2D(-3, -1, 0.4), 361)), TPose2D(-3, -1, 0.4));
+	EXPECT_EQ(observedIn(m), before);  // the snapshot, untouched
+	m.materialize();
+	EXPECT_EQ(observedIn(m), m.cells().observedCells());
+	EXPECT_GT(observedIn(m), before);
 	m.releaseMaterialized();
 	EXPECT_EQ(m.getSizeX() * m.getSizeY(), 1u);
+	m.materialize();  // refilled after a release
+	EXPECT_EQ(observedIn(m), m.cells().observedCells());
 }
 
 TEST(OccupancyDistanceGridMap, DistanceLayerIsTheBruteForceDistanceToTheOccupiedCells)

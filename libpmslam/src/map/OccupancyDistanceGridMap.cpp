@@ -82,6 +82,7 @@ void OccupancyDistanceGridMap::shrinkBase()
 	const float r = static_cast<float>(m_opts.resolution);
 	setSize(0.f, r, 0.f, r, r, 0.5f);
 	m_map.shrink_to_fit();
+	m_viewCurrent = false;
 }
 
 void OccupancyDistanceGridMap::internal_clear()
@@ -117,10 +118,14 @@ void OccupancyDistanceGridMap::denseExtent(int& x0, int& y0, int& x1, int& y1) c
 
 void OccupancyDistanceGridMap::materialize()
 {
+	// A builder's getCurrentlyBuiltMetricMap() may be called after every scan, and most scans are
+	// not inserted: the view is refilled only when the cells changed.
+	if (m_viewCurrent) return;
 	int x0, y0, x1, y1;
 	denseExtent(x0, y0, x1, y1);
 	fillDense(m_cells, m_opts.resolution, x0, y0, x1, y1, *this);
 	m_is_empty = m_cells.blockCount() == 0;
+	m_viewCurrent = true;
 }
 
 mrpt::maps::COccupancyGridMap2D OccupancyDistanceGridMap::denseCopy() const
@@ -143,6 +148,7 @@ void OccupancyDistanceGridMap::assignCells(const mrpt::maps::COccupancyGridMap2D
 		for (unsigned ix = 0; ix < sx; ++ix)
 			if (const auto c = raw[std::size_t(iy) * sx + ix]; c != 0) m_cells.at(int(ix) + offX, int(iy) + offY) = c;
 	m_is_empty = false;
+	m_viewCurrent = false;
 	rebuildDistanceMap();
 }
 
@@ -251,6 +257,7 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 		if (!tooFar(p)) carveTo(p, 0.0);
 	if (!m_deferDistance) m_distance.update();
 	m_is_empty = false;
+	m_viewCurrent = false;
 	return m_flips;
 }
 

@@ -34,9 +34,7 @@ std::string value(const mrpt::config::CConfigFileBase& cfg, const std::string& s
 	// MRPT's INI files put comments after values with "//".
 	std::string v = cfg.read_string(section, key, "");
 	if (const auto c = v.find("//"); c != std::string::npos) v.erase(c);
-	const auto b = v.find_first_not_of(" \t\r\n");
-	if (b == std::string::npos) return "";
-	return v.substr(b, v.find_last_not_of(" \t\r\n") - b + 1);
+	return trimBlanks(v);
 }
 }  // namespace
 

@@ -16,6 +16,14 @@
 
 namespace pmslam::detail
 {
+/** `s` without leading and trailing blanks (space, tab, CR, LF): how both INI readers take a value. */
+inline std::string trimBlanks(const std::string& s)
+{
+	const auto b = s.find_first_not_of(" \t\r\n");
+	if (b == std::string::npos) return "";
+	return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
+}
+
 /** True for an icp-slam file: an [ICP] section, or icp-slam's own [MappingApplication] keys. */
 bool isIcpSlamConfig(const mrpt::config::CConfigFileBase& cfg);
 

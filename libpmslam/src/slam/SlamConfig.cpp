@@ -158,12 +158,7 @@ std::string closest(const std::string& word, const std::vector<std::string>& can
 	return best;
 }
 
-std::string trim(const std::string& s)
-{
-	const auto b = s.find_first_not_of(" \t\r\n");
-	if (b == std::string::npos) return "";
-	return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
+using detail::trimBlanks;
 
 bool isNumber(const std::string& v, bool integer)
 {
@@ -224,7 +219,7 @@ void validate(const mrpt::config::CConfigFileBase& cfg, const std::string& sourc
 			if (!spec)
 				throw ConfigError(source + ": unknown key '" + key + "' in [" + sec + "] (did you mean '" +
 								  closest(key, valid) + "'?)");
-			const std::string v = trim(cfg.read_string(sec, key, ""));
+			const std::string v = trimBlanks(cfg.read_string(sec, key, ""));
 			const bool ok = spec->type == Type::Number	  ? isNumber(v, false)
 							: spec->type == Type::Integer ? isNumber(v, true)
 							: spec->type == Type::Bool	  ? isBool(v)
@@ -259,7 +254,7 @@ std::string oneLine(const std::string& what)
 {
 	std::string s;
 	for (char ch : what) s += (ch == '\n' || ch == '\r') ? ' ' : ch;
-	s = trim(s);
+	s = trimBlanks(s);
 	if (s.size() > 200) s = s.substr(0, 197) + "...";
 	return s;
 }
@@ -308,7 +303,7 @@ SlamConfig parseChecked(const std::string& iniText, const std::string& sourceNam
 		if (!(sl.resolution >= mrpt::DEG2RAD(0.05) && sl.resolution <= mrpt::DEG2RAD(10)))
 			throw std::invalid_argument("[Log] sliceResolution_deg: expected 0.05..10 degrees");
 		if (!(sl.maxRange > 0 && sl.maxRange <= 1000)) throw std::invalid_argument("[Log] sliceMaxRange: expected 0..1000 m");
-		c.odometrySource = parseOdometrySource(trim(cfg.read_string("Log", "odometrySource", "auto")), where);
+		c.odometrySource = parseOdometrySource(trimBlanks(cfg.read_string("Log", "odometrySource", "auto")), where);
 	}
 	catch (const ConfigError&)
 	{

@@ -83,7 +83,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	const SparseOccupancyGrid& cells() const { return m_cells; }
 
 	/** Fills the COccupancyGridMap2D base with the cells (extent: the allocated blocks), for MRPT
-	 * code that reads a dense grid. A snapshot: later insertions do not update it. */
+	 * code that reads a dense grid. A snapshot: later insertions do not update it, the next call
+	 * does (a call while the cells are unchanged since the last one does nothing). */
 	void materialize();
 	/** The lattice cells the dense view covers (inclusive): the allocated blocks, or the one cell at the
 	 * origin of an empty map. materialize(), denseCopy() and the streamed map.gridmap.gz all use it. */
@@ -152,7 +153,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	DynamicDistanceMap m_distance;
 	int m_hitDelta, m_missDelta, m_clamp;  // in MRPT log-odds units (free-positive)
 	std::size_t m_flips = 0;
-	bool m_deferDistance = false;  // insertScans(): the distance layer is rebuilt at the end
+	bool m_deferDistance = false;
+	bool m_viewCurrent = false;  // the base holds the cells as they are (materialize() done since the last change)  // insertScans(): the distance layer is rebuilt at the end
 };
 
 }  // namespace pmslam
