@@ -27,10 +27,23 @@ void ProgressLine::update(std::size_t done)
 	m_shown = true;
 }
 
+void ProgressLine::updateText(const std::function<std::string()>& line)
+{
+	if (!m_enabled) return;
+	const auto now = std::chrono::steady_clock::now();
+	if (now - m_last < std::chrono::milliseconds(250)) return;
+	m_last = now;
+	const std::string text = line();
+	if (text.size() + 3 > m_width) m_width = text.size() + 3;
+	std::fprintf(stderr, "\r%s   ", text.c_str());
+	std::fflush(stderr);
+	m_shown = true;
+}
+
 void ProgressLine::clear()
 {
 	if (!m_shown) return;
-	std::fprintf(stderr, "\r%60s\r", "");
+	std::fprintf(stderr, "\r%*s\r", int(m_width), "");
 	std::fflush(stderr);
 	m_shown = false;
 }

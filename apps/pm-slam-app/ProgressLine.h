@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cstddef>
+#include <functional>
+#include <string>
 
 namespace pmslam
 {
@@ -13,6 +15,8 @@ class ProgressLine
    public:
 	ProgressLine(bool enabled, std::size_t total);
 	void update(std::size_t done);
+	/** A line of the caller's (live runs: received / processed / dropped, latency), made only when due. */
+	void updateText(const std::function<std::string()>& line);
 	/** Erases the line (before other output and at the end). */
 	void clear();
 
@@ -20,6 +24,7 @@ class ProgressLine
 	bool m_enabled;
 	std::size_t m_total;
 	bool m_shown = false;
+	std::size_t m_width = 60;  // of the longest line shown, for clear()
 	std::chrono::steady_clock::time_point m_start, m_last;
 };
 }  // namespace pmslam

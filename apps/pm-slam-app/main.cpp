@@ -8,6 +8,10 @@
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
 #include <pmslam/io/LogReader.h>
+#include <pmslam/io/RawlogReader.h>
+#include <pmslam/io/RawlogRecorder.h>
+#include <pmslam/live/LiveReader.h>
+#include <pmslam/live/PendingObservations.h>
 #include <pmslam/util/LibraryPages.h>
 #include <pmslam/util/RunStatistics.h>
 #include <pmslam/io/MapExport.h>
@@ -33,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "LiveSensors.h"
 #include "LiveViewer.h"
 #include "ProgressLine.h"
 
@@ -42,6 +47,8 @@ const char* kDefaultLog = "/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom F
 
 const char* kUsage =
 	R"(usage: pm-slam-app [options] [LOG]
+       pm-slam-app [options] --live SENSORS.ini
+       pm-slam-app [options] --follow LOG.rawlog
 
 Online 2D laser SLAM with the Perfect Match scan matcher.
 LOG is an MRPT .rawlog (action-observation or observation-only, plain or gz)
@@ -66,6 +73,26 @@ options (before or after LOG):
   --max-untracked S       exit with status 3 when no match was accepted for more than S seconds of log
                           (default 10; those poses are odometry only); spans over 3 s are warned about
   --quiet                 no summary, only warnings and errors
+
+live runs:
+  --live SENSORS.ini      map from live sensors, configured exactly as for MRPT's rawlog-grabber (one section
+                          per sensor: driver = CHokuyoURG, CLMS100Eth, CSICKTim561Eth_2050101, CRoboPeakLidar,
+                          ... with the driver's own keys and process_rate; [global] is ignored). Runs until
+                          Ctrl-C (or SIGTERM), then writes every output and exits 0
+  --follow LOG.rawlog     map a rawlog that rawlog-grabber is still writing, waiting for new objects at its
+                          end; stops on Ctrl-C or after --follow-timeout
+  --follow-timeout S      --follow: stop after S seconds without the file growing (default 0: only Ctrl-C)
+  --record FILE.rawlog    --live: save everything received, as rawlog-grabber does (gz, observations only;
+                          FILE.rawlog.part until the end); pm-slam-app on FILE.rawlog then reproduces the live
+                          trajectory exactly (unless scans were dropped, which the summary says)
+  --snapshot-every S      write pose.txt, trajectory.txt and the map (map.png, map.pgm + map.yaml) every S
+                          seconds of wall time while running, each atomically (default 5 with --live or
+                          --follow, 0 = never otherwise)
+  --max-pending N         --live: at most N scans wait for the SLAM; when more arrive the oldest are dropped
+                          (counted and warned about; default 20)
+  --connect-timeout S     --live: each sensor must deliver data within S seconds of start-up (default 10),
+                          else the run stops with an error naming its section; a sensor silent for 2 s while
+                          running is reconnected, with a warning
   -h, --help              this text
 
 outputs in DIR: trajectory.txt (timestamp x y yaw, one line per scan; after loop closure),
@@ -74,7 +101,7 @@ MRPT .graph format), map.png, map.pgm + map.yaml (ROS map_server), map.gridmap.g
 map.simplemap.gz (MRPT), timing.txt (per-scan milliseconds and tracking state). Exit status: 0 done, 2 bad input or
 configuration, 1 failure while running, 3 done but tracking was lost (no match accepted) for more
 than --max-untracked seconds of log somewhere (outputs written, each such span warned about),
-130 interrupted (outputs still written).
+130 interrupted (outputs still written; with --live and --follow, Ctrl-C is the normal end: 0).
 )";
 
 // A stretch without an accepted match longer than this (s of log) is warned about.
@@ -102,6 +129,9 @@ struct Args
 	bool logGiven = false, outGiven = false;
 	double maxUntracked = 10.0;	 // s
 	int progress = -1;	// -1 auto
+	std::string live, follow, record;  // --live SENSORS.ini, --follow LOG.rawlog, --record FILE.rawlog
+	double followTimeout = 0, snapshotEvery = -1, connectTimeout = 10;	// s; snapshotEvery -1: the mode's default
+	std::size_t maxPending = 20;
 };
 
 [[noreturn]] void usageError(const std::string& msg)
@@ -121,6 +151,14 @@ Args parseArgs(int argc, char** argv)
 		auto value = [&](const char* name) -> std::string {
 			if (i + 1 >= argc) usageError(std::string(name) + " needs a value");
 			return argv[++i];
+		};
+		auto seconds = [&](const char* name) {
+			const std::string v = value(name);
+			char* end = nullptr;
+			const double x = std::strtod(v.c_str(), &end);
+			if (end == v.c_str() || *end || !(x >= 0) || !std::isfinite(x))
+				usageError(std::string(name) + " '" + v + "': expected seconds >= 0");
+			return x;
 		};
 		if (s == "-h" || s == "--help")
 		{
@@ -150,14 +188,20 @@ Args parseArgs(int argc, char** argv)
 			a.initialPose = {x, y, mrpt::DEG2RAD(yawDeg)};
 			initialPoseGiven = true;
 		}
-		else if (s == "--max-untracked")
+		else if (s == "--max-untracked") a.maxUntracked = seconds("--max-untracked");
+		else if (s == "--live") a.live = value("--live");
+		else if (s == "--follow") a.follow = value("--follow");
+		else if (s == "--follow-timeout") a.followTimeout = seconds("--follow-timeout");
+		else if (s == "--record") a.record = value("--record");
+		else if (s == "--snapshot-every") a.snapshotEvery = seconds("--snapshot-every");
+		else if (s == "--connect-timeout") a.connectTimeout = seconds("--connect-timeout");
+		else if (s == "--max-pending")
 		{
-			const std::string v = value("--max-untracked");
+			const std::string v = value("--max-pending");
 			char* end = nullptr;
-			const double x = std::strtod(v.c_str(), &end);
-			if (end == v.c_str() || *end || !(x >= 0) || !std::isfinite(x))
-				usageError("--max-untracked '" + v + "': expected seconds >= 0");
-			a.maxUntracked = x;
+			const long n = std::strtol(v.c_str(), &end, 10);
+			if (end == v.c_str() || *end || n < 1) usageError("--max-pending '" + v + "': expected a whole number >= 1");
+			a.maxPending = static_cast<std::size_t>(n);
 		}
 		else if (s == "--gui") a.gui = true;
 		else if (s == "--quiet") a.quiet = true;
@@ -168,8 +212,14 @@ Args parseArgs(int argc, char** argv)
 	}
 	if (positional.size() > 1) usageError("expected one LOG, got " + std::to_string(positional.size()));
 	if (initialPoseGiven && a.localize.empty()) usageError("--initial-pose needs --localize MAP");
-	a.log = positional.empty() ? kDefaultLog : positional[0];
-	a.logGiven = !positional.empty();
+	if (!a.live.empty() && !a.follow.empty()) usageError("--live and --follow exclude each other");
+	if ((!a.live.empty() || !a.follow.empty()) && !positional.empty())
+		usageError(std::string(a.live.empty() ? "--follow" : "--live") + " takes the place of LOG: give one or the other");
+	if (!a.record.empty() && a.live.empty()) usageError("--record needs --live (a log is its own recording)");
+	if (a.snapshotEvery < 0) a.snapshotEvery = (a.live.empty() && a.follow.empty()) ? 0 : 5;
+	if (!a.follow.empty()) positional.push_back(a.follow);
+	a.log = !a.live.empty() ? a.live : positional.empty() ? kDefaultLog : positional[0];
+	a.logGiven = !positional.empty() || !a.live.empty();
 	return a;
 }
 
@@ -255,9 +305,61 @@ int main(int argc, char** argv)
 	if (!args.outGiven && !cfg.icpSlamOutputDir.empty()) args.out = cfg.icpSlamOutputDir;
 	// The log first: a bad LOG must not leave an empty --out folder behind.
 	std::unique_ptr<pmslam::LogReader> reader;
+	const bool live = !args.live.empty();
+	std::unique_ptr<pmslam::PendingObservations> pending;  // --live: between the sensor threads and the SLAM
+	std::unique_ptr<pmslam::RawlogRecorder> recorder;	  // --record
+	std::atomic<bool> recordFailed{false};
+	std::unique_ptr<pmslam_app::LiveSensors> sensors;
 	try
 	{
-		reader = pmslam::LogReader::open(args.log, cfg.log);
+		if (live)
+		{
+			pending = std::make_unique<pmslam::PendingObservations>(args.maxPending);
+			if (!args.record.empty())
+			{
+				try
+				{
+					recorder = std::make_unique<pmslam::RawlogRecorder>(args.record);
+				}
+				catch (const std::exception& e)
+				{
+					throw std::runtime_error("--record " + args.record + ": " + e.what());
+				}
+				pending->onReceived = [&](const mrpt::serialization::CSerializable::Ptr& obj) {
+					if (recordFailed) return;
+					try
+					{
+						recorder->write(*obj);
+					}
+					catch (const std::exception& e)
+					{  // the SLAM goes on; the recording stops, loudly
+						recordFailed = true;
+						pending->note("--record " + args.record + ": writing failed (" + e.what() +
+									  "): the recording stops here");
+					}
+				};
+			}
+			try
+			{
+				sensors = std::make_unique<pmslam_app::LiveSensors>(args.live, *pending, args.connectTimeout, 2.0);
+			}
+			catch (const std::exception&)
+			{
+				if (recorder) recorder->abandon();
+				throw;
+			}
+			reader = std::make_unique<pmslam::LiveReader>(args.live, *pending, [] { return g_stop.load(); }, cfg.log);
+		}
+		else if (!args.follow.empty())
+		{
+			pmslam::LogReaderOptions opts = cfg.log;
+			opts.follow = true;
+			opts.followTimeout = args.followTimeout;
+			opts.stopRequested = [] { return g_stop.load(); };
+			reader = std::make_unique<pmslam::RawlogReader>(args.follow, opts);
+		}
+		else
+			reader = pmslam::LogReader::open(args.log, cfg.log);
 	}
 	catch (const std::exception& e)
 	{
@@ -370,7 +472,29 @@ int main(int argc, char** argv)
 	dumpSmaps(".after");
 	std::vector<ScanTiming> timing;
 	const auto wallStart = std::chrono::steady_clock::now();
-	auto lastGui = wallStart;
+	auto lastGui = wallStart, lastSnapshot = wallStart;
+	// --live: from a scan's timestamp (the driver's clock) to its pose (ms), and drops already warned about.
+	std::vector<double> latencyMs;
+	std::size_t droppedWarned = 0;
+	auto lastDropWarning = wallStart - std::chrono::hours(1);
+	std::size_t snapshots = 0;
+	auto snapshot = [&]() {
+		namespace fs = std::filesystem;
+		const auto at = [&](const char* name) { return (fs::path(args.out) / name).string(); };
+		const pmslam::Trajectory now = corrected(traj);
+		char line[160];
+		std::snprintf(line, sizeof line, "%.6f %.4f %.4f %.5f\n", now.back().timestamp, now.back().x, now.back().y,
+					  now.back().yaw);
+		pmslam::writeFileAtomically(at("pose.txt"), [&](std::ostream& out) {
+			out << "# timestamp x y yaw: the newest pose (m, m, rad), written every " << args.snapshotEvery
+				<< " s while running\n"
+				<< line;
+		});
+		pmslam::saveTrajectory(at("trajectory.txt"), now, "pm-slam-app " + args.log + ": snapshot while running");
+		pmslam::saveMapPng(slam.grid(), now, at("map.png"), loopLinks());
+		if (args.localize.empty()) pmslam::saveMapPgmYaml(slam.grid(), at("map.pgm"), at("map.yaml"));
+		++snapshots;
+	};
 	bool failed = false;
 	std::string failure;
 	try
@@ -387,6 +511,9 @@ int main(int argc, char** argv)
 			if (ev.scanHasOdometry && cfg.odometrySource != pmslam::OdometrySource::Events) odo = ev.scanOdometry;
 			const auto& r = slam.processScan(*ev.scan, odo);
 			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
+			if (live && ev.scan->timestamp != INVALID_TIMESTAMP)
+				latencyMs.push_back(
+					1e3 * mrpt::system::timeDifference(ev.scan->timestamp, mrpt::Clock::now()));
 			applySmoothedPoses(false);
 			const int tracking = r.reanchored ? 4 : r.rejected ? 3 : r.relocalized ? 2 : r.matched ? 0 : 1;
 			if (r.reanchored && (timing.empty() || timing.back().tracking != 4))
@@ -401,7 +528,50 @@ int main(int argc, char** argv)
 			}
 			timing.push_back({ev.timestamp, r.matchMs, r.updateMs, r.backendWaitMs, r.matched, r.inserted, r.info.nIterations,
 							  r.info.goodness, tracking, r.wideSearch});
-			progress.update(traj.size());
+			if (live)
+			{
+				const auto c = pending->counts();
+				// Falling behind the sensors: said at once, then at most every 5 s while it goes on.
+				if (c.droppedScans > droppedWarned &&
+					std::chrono::steady_clock::now() - lastDropWarning > std::chrono::seconds(5))
+				{
+					progress.clear();
+					std::fprintf(stderr,
+								 "pm-slam-app: warning: at t=%.3f the SLAM fell behind the sensors: %zu scans dropped "
+								 "unprocessed so far (the oldest pending; at most --max-pending %zu wait)\n",
+								 ev.timestamp, c.droppedScans, args.maxPending);
+					droppedWarned = c.droppedScans;
+					lastDropWarning = std::chrono::steady_clock::now();
+				}
+				progress.updateText([&] {
+					std::vector<double> recent(latencyMs.end() - std::min<std::size_t>(latencyMs.size(), 400),
+											   latencyMs.end());
+					char b[256];
+					std::snprintf(b, sizeof b,
+								  "received %zu scans, processed %zu, dropped %zu; latency p50 %.1f ms, p99 %.1f ms; "
+								  "pose %.2f %.2f %.0f deg",
+								  c.scans, traj.size(), c.droppedScans, pmslam::percentile(recent, 0.5),
+								  pmslam::percentile(recent, 0.99), traj.back().x, traj.back().y,
+								  mrpt::RAD2DEG(traj.back().yaw));
+					return std::string(b);
+				});
+			}
+			else
+				progress.update(traj.size());
+			if (args.snapshotEvery > 0 &&
+				std::chrono::steady_clock::now() - lastSnapshot > std::chrono::duration<double>(args.snapshotEvery))
+			{
+				try
+				{
+					snapshot();
+				}
+				catch (const std::exception& e)
+				{
+					progress.clear();
+					std::cerr << "pm-slam-app: warning: snapshot to " << args.out << " failed: " << e.what() << "\n";
+				}
+				lastSnapshot = std::chrono::steady_clock::now();
+			}
 			if (window && std::chrono::steady_clock::now() - lastGui > std::chrono::milliseconds(500))
 			{
 				// The current scan's returns, placed at the pose SLAM gave it.
@@ -426,6 +596,19 @@ int main(int argc, char** argv)
 		failure = e.what();
 	}
 	progress.clear();
+	if (sensors) sensors->stop();  // nothing arrives any more: the counts below are final
+	if (recorder)
+	{
+		try
+		{
+			recorder->close();
+		}
+		catch (const std::exception& e)
+		{
+			std::cerr << "pm-slam-app: --record " << args.record << ": " << e.what() << "\n";
+			recordFailed = true;
+		}
+	}
 	applySmoothedPoses(true);  // the last scans' poses wait for a look-ahead that will not come
 	// The online poses as they were; the final ones follow the optimised pose graph.
 	const pmslam::Trajectory online = traj;
@@ -452,7 +635,10 @@ int main(int argc, char** argv)
 					 "observations to slice: CObservation3DRangeScan, CObservationPointCloud, CObservationVelodyneScan)\n";
 		return 2;
 	}
-	if (g_stop) std::cerr << "pm-slam-app: interrupted after " << traj.size() << " scans: writing what was computed\n";
+	// --live and --follow end with Ctrl-C (or SIGTERM): their normal end, not an interruption.
+	const bool openEnded = live || !args.follow.empty();
+	if (g_stop && !openEnded)
+		std::cerr << "pm-slam-app: interrupted after " << traj.size() << " scans: writing what was computed\n";
 	if (failed)
 		std::cerr << "pm-slam-app: error after " << traj.size() << " scans: " << failure
 				  << ": writing what was computed\n";
@@ -486,7 +672,7 @@ int main(int argc, char** argv)
 		std::cerr << "pm-slam-app: cannot write outputs to " << args.out << ": " << e.what() << "\n";
 		return 1;
 	}
-	if (g_stop || failed)
+	if ((g_stop && !openEnded) || failed)
 		std::cerr << "pm-slam-app: wrote the map and the trajectory of " << traj.size() << " scans to " << args.out
 				  << "\n";
 
@@ -519,6 +705,23 @@ int main(int argc, char** argv)
 						ls.closures, ls.accepted, ls.rejected, ls.verified, ls.attempts, ls.optimizations, ls.rebuilds,
 						ls.backendSeconds, ls.optimizeSeconds, ls.waitSeconds, args.out.c_str());
 		}
+		if (live)
+		{
+			const auto c = pending->counts();
+			std::printf("  live: %zu objects received (%zu scans) from %s; %zu scans processed, %zu dropped because the "
+						"SLAM was behind (at most %zu pending); latency from a scan's timestamp to its pose: p50 %.1f ms, "
+						"p99 %.1f ms, max %.1f ms\n",
+						c.received, c.scans, args.live.c_str(), traj.size(), c.droppedScans, args.maxPending,
+						pmslam::percentile(latencyMs, 0.5), pmslam::percentile(latencyMs, 0.99),
+						latencyMs.empty() ? 0.0 : *std::max_element(latencyMs.begin(), latencyMs.end()));
+			if (recorder)
+				std::printf("  recorded %zu objects to %s%s\n", recorder->objects(), args.record.c_str(),
+							recordFailed ? " (INCOMPLETE: writing failed)"
+							: c.droppedScans ? " (it holds the dropped scans too: an offline run on it maps them)"
+											 : " (pm-slam-app on it reproduces this trajectory)");
+		}
+		if (args.snapshotEvery > 0)
+			std::printf("  %zu snapshots written to %s (every %.1f s)\n", snapshots, args.out.c_str(), args.snapshotEvery);
 		std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
 					total.empty() ? 0.0 : sumMs / total.size(), pmslam::percentile(total, 0.5), pmslam::percentile(total, 0.99));
 		// Whole-log processing: the front-end plus its waits for the back-end (and the final optimisation).
@@ -548,7 +751,7 @@ int main(int argc, char** argv)
 	}
 	int status = 0;
 	if (failed) status = 1;
-	else if (g_stop) status = 130;
+	else if (g_stop && !openEnded) status = 130;
 	else if (trackingLost)
 	{
 		std::fprintf(stderr, "pm-slam-app: tracking was lost for %.1f s of log (more than --max-untracked %.1f s): exit status 3\n",

@@ -91,6 +91,12 @@ struct LogReaderOptions
 	double rawlogObjectTimeout = 10.0;
 	/** Rawlog: 3D lidar and RGB-D observations are mapped through this horizontal slice (ScanSlice.h). */
 	ScanSliceOptions slice;
+	/** Rawlog: the file is still being written (rawlog-grabber; --follow): at its end, wait for it to
+	 * grow, until followTimeout s pass without a new byte (0: no limit) or stopRequested() is true.
+	 * The file is read in this process only (no read-ahead child: it would meet the end first). */
+	bool follow = false;
+	double followTimeout = 0;
+	std::function<bool()> stopRequested;
 };
 
 /** Thrown by LogReader::open() and the reader constructors: one line naming

@@ -1,0 +1,47 @@
+/* pmslam — Perfect Match 2D laser SLAM on MRPT.
+ *
+ * LiveReader: the LogReader of a live run. It takes the objects that sensor
+ * threads left in a PendingObservations, oldest first, and turns them into
+ * LogEvent with the same ObservationEvents conversion as RawlogReader — so
+ * the SLAM loop is the same for a log and a robot, and a --record'ed run
+ * replays offline to the same trajectory.
+ *
+ * next() waits for data; it returns false when stopRequested() is true (Ctrl-C)
+ * or the sensors closed the queue and it is empty. The sensors' notes
+ * (disconnects, reconnections) come out through onWarning, between events.
+ */
+#pragma once
+
+#include <pmslam/io/LogReader.h>
+#include <pmslam/io/ObservationEvents.h>
+#include <pmslam/live/PendingObservations.h>
+
+#include <deque>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace pmslam
+{
+class LiveReader : public LogReader
+{
+   public:
+	/** `name` (e.g. the SENSORS.ini path) names the source in messages. */
+	LiveReader(std::string name, PendingObservations& pending, std::function<bool()> stopRequested,
+			   const LogReaderOptions& opts = {});
+
+	bool next(LogEvent& ev) override;
+	std::size_t estimatedScanCount() const override { return 0; }	// unknown: open-ended
+
+   private:
+	void passNotes();
+
+	PendingObservations& m_pending;
+	std::function<bool()> m_stop;
+	ObservationEvents m_events;
+	std::deque<LogEvent> m_queue;
+	std::size_t m_objects = 0;
+	bool m_done = false;
+};
+
+}  // namespace pmslam

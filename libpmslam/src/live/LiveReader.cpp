@@ -1,0 +1,58 @@
+/* pmslam — live sensor data as a LogReader (see LiveReader.h). */
+#include <pmslam/live/LiveReader.h>
+
+#include <chrono>
+#include <utility>
+
+namespace pmslam
+{
+LiveReader::LiveReader(std::string name, PendingObservations& pending, std::function<bool()> stopRequested,
+					   const LogReaderOptions& opts)
+	: LogReader(name),
+	  m_pending(pending),
+	  m_stop(std::move(stopRequested)),
+	  m_events(opts, name, [this](const std::string& w) { warn(w); }, m_stats)
+{
+}
+
+void LiveReader::passNotes()
+{
+	for (const auto& n : m_pending.takeNotes()) warn(n);
+}
+
+bool LiveReader::next(LogEvent& ev)
+{
+	while (m_queue.empty())
+	{
+		passNotes();
+		if (m_done) return false;
+		if (m_stop && m_stop())
+		{
+			m_events.finish(m_queue);
+			m_done = true;
+			continue;
+		}
+		mrpt::serialization::CSerializable::Ptr obj;
+		// A short wait: Ctrl-C and the sensors' notes are seen within it.
+		if (!m_pending.pop(obj, std::chrono::milliseconds(50)))
+		{
+			if (m_pending.closed())
+			{
+				m_events.finish(m_queue);
+				m_done = true;
+			}
+			continue;
+		}
+		m_stats.linesOrObjects = ++m_objects;
+		m_events.add(obj, m_objects, m_queue);
+	}
+	ev = std::move(m_queue.front());
+	m_queue.pop_front();
+	if (ev.kind == LogEvent::Kind::Scan)
+		++m_stats.scans;
+	else
+		++m_stats.odometry;
+	return true;
+}
+
+}  // namespace pmslam
