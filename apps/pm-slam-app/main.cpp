@@ -348,7 +348,8 @@ int main(int argc, char** argv)
 				if (recorder) recorder->abandon();
 				throw;
 			}
-			reader = std::make_unique<pmslam::LiveReader>(args.live, *pending, [] { return g_stop.load(); }, cfg.log);
+			reader = std::make_unique<pmslam::LiveReader>(
+				args.live, *pending, [] { return g_stop.load(); }, [&] { sensors->stop(); }, cfg.log);
 		}
 		else if (!args.follow.empty())
 		{
@@ -500,7 +501,8 @@ int main(int argc, char** argv)
 	try
 	{
 		pmslam::LogEvent ev;
-		while (!g_stop && reader->next(ev))
+		// A live reader sees Ctrl-C itself: it stops the sensors, then hands over what they had delivered.
+		while ((live || !g_stop) && reader->next(ev))
 		{
 			if (ev.kind == pmslam::LogEvent::Kind::Odometry)
 			{

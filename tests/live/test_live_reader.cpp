@@ -101,7 +101,7 @@ TEST(LiveReader, DeliversWhatSensorsPushedAndTheRecordingReplaysIdentically)
 			for (const auto& o : objs) pending.push(o);
 			pending.close();
 		});
-		pmslam::LiveReader reader("test sensors", pending, nullptr);
+		pmslam::LiveReader reader("test sensors", pending, nullptr, nullptr);
 		live = drain(reader);
 		sensor.join();
 		EXPECT_TRUE(fs::exists(rec + ".part"));	 // not the final name until closed
@@ -125,7 +125,9 @@ TEST(LiveReader, StopsPromptlyWhenAskedWhileWaiting)
 {
 	pmslam::PendingObservations pending(4);
 	std::atomic<bool> stop{false};
-	pmslam::LiveReader reader("test sensors", pending, [&] { return stop.load(); });
+	bool sourcesStopped = false;
+	pending.push(mrpt::obs::CObservation2DRangeScan::Create(furnishedRoom().scan({0, 0, 0})));
+	pmslam::LiveReader reader("test sensors", pending, [&] { return stop.load(); }, [&] { sourcesStopped = true; });
 	std::vector<std::string> warnings;
 	reader.onWarning = [&](const std::string& w) { warnings.push_back(w); };
 	pending.note("sensor [LIDAR] (CHokuyoURG): connection lost (no data for 2.0 s): retrying");
@@ -133,9 +135,12 @@ TEST(LiveReader, StopsPromptlyWhenAskedWhileWaiting)
 		std::this_thread::sleep_for(std::chrono::milliseconds(100));
 		stop = true;
 	});
-	const auto t0 = std::chrono::steady_clock::now();
 	pmslam::LogEvent ev;
+	ASSERT_TRUE(reader.next(ev));  // what was pending before the stop
+	const auto t0 = std::chrono::steady_clock::now();
 	EXPECT_FALSE(reader.next(ev));
+	EXPECT_TRUE(sourcesStopped);
+	EXPECT_TRUE(pending.closed());
 	const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	stopper.join();
 	EXPECT_GE(s, 0.09);

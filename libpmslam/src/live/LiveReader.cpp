@@ -7,10 +7,11 @@
 namespace pmslam
 {
 LiveReader::LiveReader(std::string name, PendingObservations& pending, std::function<bool()> stopRequested,
-					   const LogReaderOptions& opts)
+					   std::function<void()> stopSources, const LogReaderOptions& opts)
 	: LogReader(name),
 	  m_pending(pending),
 	  m_stop(std::move(stopRequested)),
+	  m_stopSources(std::move(stopSources)),
 	  m_events(opts, name, [this](const std::string& w) { warn(w); }, m_stats)
 {
 }
@@ -26,11 +27,12 @@ bool LiveReader::next(LogEvent& ev)
 	{
 		passNotes();
 		if (m_done) return false;
-		if (m_stop && m_stop())
+		if (!m_stopping && m_stop && m_stop())
 		{
-			m_events.finish(m_queue);
-			m_done = true;
-			continue;
+			// No new data from here; what was received is still delivered.
+			m_stopping = true;
+			if (m_stopSources) m_stopSources();
+			m_pending.close();
 		}
 		mrpt::serialization::CSerializable::Ptr obj;
 		// A short wait: Ctrl-C and the sensors' notes are seen within it.

@@ -6,9 +6,12 @@
  * the SLAM loop is the same for a log and a robot, and a --record'ed run
  * replays offline to the same trajectory.
  *
- * next() waits for data; it returns false when stopRequested() is true (Ctrl-C)
- * or the sensors closed the queue and it is empty. The sensors' notes
- * (disconnects, reconnections) come out through onWarning, between events.
+ * next() waits for data. When stopRequested() becomes true (Ctrl-C) it calls
+ * stopSources() once — which must stop the sensors and close the queue — and
+ * then delivers what is still pending: everything received (and recorded) is
+ * processed, so the recording replays to the same trajectory. It returns
+ * false once the queue is closed and empty. The sensors' notes (disconnects,
+ * reconnections) come out through onWarning, between events.
  */
 #pragma once
 
@@ -28,7 +31,7 @@ class LiveReader : public LogReader
    public:
 	/** `name` (e.g. the SENSORS.ini path) names the source in messages. */
 	LiveReader(std::string name, PendingObservations& pending, std::function<bool()> stopRequested,
-			   const LogReaderOptions& opts = {});
+			   std::function<void()> stopSources, const LogReaderOptions& opts = {});
 
 	bool next(LogEvent& ev) override;
 	std::size_t estimatedScanCount() const override { return 0; }	// unknown: open-ended
@@ -38,10 +41,11 @@ class LiveReader : public LogReader
 
 	PendingObservations& m_pending;
 	std::function<bool()> m_stop;
+	std::function<void()> m_stopSources;
 	ObservationEvents m_events;
 	std::deque<LogEvent> m_queue;
 	std::size_t m_objects = 0;
-	bool m_done = false;
+	bool m_done = false, m_stopping = false;
 };
 
 }  // namespace pmslam
