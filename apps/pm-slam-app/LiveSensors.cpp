@@ -41,17 +41,18 @@ LiveSensors::LiveSensors(const std::string& ini, pmslam::PendingObservations& si
 	using StartFn = void* (*)(const char*, void*, void (*)(void*, const mrpt::serialization::CSerializable::Ptr*),
 							  void (*)(void*, const char*), double, double, char*, size_t);
 	const auto start = reinterpret_cast<StartFn>(::dlsym(m_library, "pmslam_sensors_start"));
-	m_stop = reinterpret_cast<void (*)(void*)>(::dlsym(m_library, "pmslam_sensors_stop"));
+	m_stop = reinterpret_cast<std::size_t (*)(void*)>(::dlsym(m_library, "pmslam_sensors_stop"));
 	if (!start || !m_stop) throw std::runtime_error("--live: libpmslam-sensors.so lacks the pmslam_sensors_* entry points");
 	char error[1024] = "";
 	m_hub = start(ini.c_str(), &sink, &pushObservation, &noteEvent, connectTimeout, silence, error, sizeof error);
 	if (!m_hub) throw std::runtime_error(error);
 }
 
-void LiveSensors::stop()
+std::size_t LiveSensors::stop()
 {
-	if (m_hub) m_stop(m_hub);
+	if (m_hub) m_stuck = m_stop(m_hub);
 	m_hub = nullptr;
+	return m_stuck;
 }
 
 LiveSensors::~LiveSensors()

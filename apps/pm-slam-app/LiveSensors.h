@@ -24,13 +24,15 @@ class LiveSensors
 	LiveSensors(const LiveSensors&) = delete;
 	LiveSensors& operator=(const LiveSensors&) = delete;
 
-	/** Stops and joins the sensor threads (also done by the destructor). */
-	void stop();
+	/** Stops and joins the sensor threads (also done by the destructor). Returns how many were stuck inside
+	 * their driver and left running: the process should then end with std::_Exit once its outputs are written. */
+	std::size_t stop();
 
    private:
 	void* m_library = nullptr;
 	void* m_hub = nullptr;
-	void (*m_stop)(void*) = nullptr;
+	std::size_t (*m_stop)(void*) = nullptr;
+	std::size_t m_stuck = 0;
 };
 
 }  // namespace pmslam_app

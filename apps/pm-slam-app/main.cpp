@@ -35,6 +35,7 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "LiveSensors.h"
@@ -90,7 +91,8 @@ live runs:
                           --follow, 0 = never otherwise)
   --max-pending N         --live: at most N scans wait for the SLAM; when more arrive the oldest are dropped
                           (counted and warned about; default 20)
-  --connect-timeout S     --live: each sensor must deliver data within S seconds of start-up (default 10),
+  --connect-timeout S     --live: each sensor must deliver data within S seconds of start-up (default 30:
+                          MRPT's CLMS100Eth alone takes 15 s to start),
                           else the run stops with an error naming its section; a sensor silent for 2 s while
                           running is reconnected, with a warning
   -h, --help              this text
@@ -130,7 +132,7 @@ struct Args
 	double maxUntracked = 10.0;	 // s
 	int progress = -1;	// -1 auto
 	std::string live, follow, record;  // --live SENSORS.ini, --follow LOG.rawlog, --record FILE.rawlog
-	double followTimeout = 0, snapshotEvery = -1, connectTimeout = 10;	// s; snapshotEvery -1: the mode's default
+	double followTimeout = 0, snapshotEvery = -1, connectTimeout = 30;	// s; snapshotEvery -1: the mode's default
 	std::size_t maxPending = 20;
 };
 
@@ -279,6 +281,8 @@ int main(int argc, char** argv)
 	std::signal(SIGINT, onSignal);
 	std::signal(SIGTERM, onSignal);
 	Args args = parseArgs(argc, argv);
+	// A sensor driver writing to a connection the sensor has closed must get an error, not end the process.
+	if (!args.live.empty()) std::signal(SIGPIPE, SIG_IGN);
 
 	pmslam::SlamConfig cfg;
 	try
@@ -365,6 +369,10 @@ int main(int argc, char** argv)
 	catch (const std::exception& e)
 	{
 		std::cerr << "pm-slam-app: " << e.what() << "\n";
+		// A sensor thread may be stuck inside its driver (one that never returns on garbage): end without
+		// the static destructors it could still be using.
+		std::fflush(nullptr);
+		if (live) std::_Exit(2);
 		return 2;
 	}
 	// The prior map too (--localize), before --out is created.
@@ -476,6 +484,10 @@ int main(int argc, char** argv)
 	auto lastGui = wallStart, lastSnapshot = wallStart;
 	// --live: from a scan's timestamp (the driver's clock) to its pose (ms), and drops already warned about.
 	std::vector<double> latencyMs;
+	// Test hook: PMSLAM_TEST_SCAN_DELAY_MS=N makes each live scan take N ms more, a SLAM slower than its sensors
+	// (tests/apps/test_live.cpp: the oldest scans must be dropped, with the real driver in the loop).
+	const char* delayEnv = std::getenv("PMSLAM_TEST_SCAN_DELAY_MS");
+	const int testDelayMs = live && delayEnv ? std::atoi(delayEnv) : 0;
 	std::size_t droppedWarned = 0;
 	auto lastDropWarning = wallStart - std::chrono::hours(1);
 	std::size_t snapshots = 0;
@@ -513,6 +525,7 @@ int main(int argc, char** argv)
 			if (ev.scanHasOdometry && cfg.odometrySource != pmslam::OdometrySource::Events) odo = ev.scanOdometry;
 			const auto& r = slam.processScan(*ev.scan, odo);
 			traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
+			if (testDelayMs > 0) std::this_thread::sleep_for(std::chrono::milliseconds(testDelayMs));
 			if (live && ev.scan->timestamp != INVALID_TIMESTAMP)
 				latencyMs.push_back(
 					1e3 * mrpt::system::timeDifference(ev.scan->timestamp, mrpt::Clock::now()));
@@ -598,7 +611,12 @@ int main(int argc, char** argv)
 		failure = e.what();
 	}
 	progress.clear();
-	if (sensors) sensors->stop();  // nothing arrives any more: the counts below are final
+	// Nothing arrives any more: the counts below are final. A sensor thread stuck inside its driver is left
+	// running, and the process ends without static destructors once everything is written.
+	const std::size_t stuckSensors = sensors ? sensors->stop() : 0;
+	if (stuckSensors)
+		std::cerr << "pm-slam-app: warning: " << stuckSensors
+				  << " sensor thread(s) did not return from their driver within 3 s of the stop\n";
 	if (recorder)
 	{
 		try
@@ -763,6 +781,7 @@ int main(int argc, char** argv)
 	// Everything said so far must survive whatever the GUI toolkit does at exit.
 	std::fflush(stdout);
 	std::fflush(stderr);
+	if (stuckSensors) std::_Exit(status);
 	if (window)
 	{
 		window->show(pmslam::renderMap(slam.grid(), traj, {}, loopLinks()));

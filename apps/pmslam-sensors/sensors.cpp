@@ -6,10 +6,21 @@
  * the driver's own (process_rate, IP_DIR, ...). A sensor is connected once it delivered its first observation:
  * MRPT's laser drivers report a failed connection in their log, not by throwing. One that stays silent for
  * `silence` seconds (or throws, or reports ssError) is torn down and created anew, with a growing pause between tries.
+ *
+ * A driver call that blocks (MRPT 2.5's CHokuyoURG after a sensor was unplugged for a while, CLMS100Eth's
+ * initialize() on garbage) cannot be interrupted: a watchdog abandons that thread — whatever it returns later is
+ * discarded — and starts the driver anew in a fresh one. Threads still blocked at the end are reported as stuck.
+ *
+ * Two defects of MRPT 2.5's CLMS100Eth are mended here, measured against an emulator that speaks the LMS1xx
+ * telegram (tests/support/lidar_emulator): it labels the scans left-to-right (rightToLeft = false), but an LMS1xx
+ * sends its points in increasing angle, counter-clockwise seen from above (as SICK documents and ROS's LMS1xx
+ * driver reads them), so every scan would be mirrored; and once its connection drops it returns empty scans forever
+ * instead of reconnecting. Scans with fewer than 2 beams are not data: a sensor sending only those is silent.
  */
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/hwdrivers/CGenericSensor.h>
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/system/COutputLogger.h>
 
 #include <algorithm>
@@ -42,15 +53,22 @@ std::string oneLine(std::string s)
 	return s.size() > 240 ? s.substr(0, 237) + "..." : s;
 }
 
-class Hub;
+struct Worker
+{
+	std::thread thread;
+	bool finished = false;	// under the hub's mutex
+};
 
 struct Sensor
 {
 	std::string section, driver;
-	std::thread thread;
-	// Start-up: set by the thread, read by start() under the hub's mutex.
-	bool connected = false;
+	std::vector<std::unique_ptr<Worker>> workers;  // the current one last; earlier ones abandoned
+	unsigned generation = 0;  // of the current worker; an abandoned worker's data are discarded
+	bool connected = false;	// delivered data once
 	std::string lastError;
+	Clock::time_point lastData = Clock::now();	// the last observation delivered (by any worker)
+	Clock::time_point busySince{};	// the current worker entered a driver call then (epoch: not inside one)
+	double busyLimit = 0;  // s that call may take
 };
 
 class Hub
@@ -61,7 +79,20 @@ class Hub
 	{
 	}
 
-	~Hub() { stop(); }
+	~Hub() { stop(); }	 // only once no thread is stuck (see pmslam_sensors_stop)
+
+	bool load()
+	{
+		try
+		{
+			m_cfg.setFileName(m_ini);
+			return true;
+		}
+		catch (const std::exception&)
+		{
+			return false;
+		}
+	}
 
 	/** Empty on success, else the one-line error. */
 	std::string start()
@@ -98,7 +129,11 @@ class Hub
 				return m_ini + ": [" + s->section + "]: process_rate must be set (Hz, > 0), as for rawlog-grabber";
 		}
 		const auto t0 = Clock::now();
-		for (auto& s : m_sensors) s->thread = std::thread([this, p = s.get()] { run(*p); });
+		{
+			std::lock_guard<std::mutex> lock(m_mutex);
+			for (auto& s : m_sensors) launch(*s);
+		}
+		m_watchdog = std::thread([this] { watch(); });
 		// Until every sensor delivered its first observation, or the time is up.
 		std::unique_lock<std::mutex> lock(m_mutex);
 		m_cv.wait_for(lock, std::chrono::duration<double>(m_connectTimeout), [&] {
@@ -110,34 +145,57 @@ class Hub
 				char b[64];
 				std::snprintf(b, sizeof b, "%.0f", since(t0));
 				const std::string why = s->lastError.empty() ? "" : " (last driver message: " + s->lastError + ")";
+				const std::string msg = m_ini + ": [" + s->section + "] (" + s->driver + "): no data within " + b +
+										" s: is the sensor connected and powered, and are its address keys right?" + why;
 				lock.unlock();
-				stop();
-				return m_ini + ": [" + s->section + "] (" + s->driver + "): no data within " + b +
-					   " s: is the sensor connected and powered, and are its address keys right?" + why;
+				m_stuck = stop();
+				return msg;
 			}
 		return {};
 	}
 
-	void stop()
+	/** Stops the threads; returns how many are stuck inside their driver: those are detached, and the hub
+	 * must then outlive them. */
+	std::size_t stop()
 	{
-		m_stop = true;
+		{
+			std::lock_guard<std::mutex> lock(m_mutex);
+			if (m_stopped) return m_stuck;
+			m_stopped = true;
+			m_stop = true;
+		}
 		m_cv.notify_all();
+		if (m_watchdog.joinable()) m_watchdog.join();
+		std::unique_lock<std::mutex> lock(m_mutex);
+		auto allFinished = [&] {
+			for (const auto& s : m_sensors)
+				for (const auto& w : s->workers)
+					if (!w->finished) return false;
+			return true;
+		};
+		m_cv.wait_for(lock, std::chrono::seconds(3), allFinished);
+		std::size_t stuck = 0;
 		for (auto& s : m_sensors)
-			if (s->thread.joinable()) s->thread.join();
+			for (auto& w : s->workers)
+			{
+				if (!w->thread.joinable()) continue;
+				if (w->finished)
+				{
+					lock.unlock();
+					w->thread.join();
+					lock.lock();
+				}
+				else
+				{
+					w->thread.detach();
+					++stuck;
+				}
+			}
+		m_stuck = stuck;
+		return stuck;
 	}
 
-	bool load()
-	{
-		try
-		{
-			m_cfg.setFileName(m_ini);
-			return true;
-		}
-		catch (const std::exception&)
-		{
-			return false;
-		}
-	}
+	std::size_t stuck() const { return m_stuck; }
 
    private:
 	static std::string lastMessage(const std::string& what)
@@ -162,95 +220,175 @@ class Hub
 		m_note(m_ctx, ("sensor [" + s.section + "] (" + s.driver + "): " + what).c_str());
 	}
 
+	/** Starts a worker for `s` (under m_mutex); any earlier worker is abandoned. */
+	void launch(Sensor& s)
+	{
+		const unsigned gen = ++s.generation;
+		s.busySince = Clock::time_point{};
+		auto w = std::make_unique<Worker>();
+		Worker* wp = w.get();
+		s.workers.push_back(std::move(w));
+		wp->thread = std::thread([this, &s, gen, wp] {
+			run(s, gen);
+			std::lock_guard<std::mutex> lock(m_mutex);
+			wp->finished = true;
+			m_cv.notify_all();
+		});
+	}
+
+	/** Abandons a worker blocked in one driver call for longer than the silence allows, and starts anew. */
+	void watch()
+	{
+		std::unique_lock<std::mutex> lock(m_mutex);
+		while (!m_cv.wait_for(lock, std::chrono::milliseconds(250), [&] { return m_stop.load(); }))
+			for (auto& s : m_sensors)
+			{
+				if (s->busySince == Clock::time_point{} || since(s->busySince) < s->busyLimit) continue;
+				char b[200];
+				std::snprintf(b, sizeof b,
+							  "no data for %.1f s (a driver call has not returned for %.1f s): left behind, the driver "
+							  "is started anew",
+							  since(s->lastData), since(s->busySince));
+				if (s->connected) note(*s, b);
+				launch(*s);
+			}
+	}
+
+	bool current(const Sensor& s, unsigned gen)
+	{
+		std::lock_guard<std::mutex> lock(m_mutex);
+		return s.generation == gen && !m_stop;
+	}
+
+	/** Runs `f` as one driver call that may take `limit` s, watched: false if this worker was abandoned. */
+	template <class F>
+	bool driverCall(Sensor& s, unsigned gen, double limit, F&& f)
+	{
+		{
+			std::lock_guard<std::mutex> lock(m_mutex);
+			if (s.generation != gen) return false;
+			s.busySince = Clock::now();
+			s.busyLimit = limit;
+		}
+		f();
+		std::lock_guard<std::mutex> lock(m_mutex);
+		if (s.generation != gen) return false;
+		s.busySince = Clock::time_point{};
+		return true;
+	}
+
 	bool sleepFor(double seconds)
 	{
 		std::unique_lock<std::mutex> lock(m_mutex);
 		return !m_cv.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return m_stop.load(); });
 	}
 
-	void run(Sensor& s)
+	void run(Sensor& s, unsigned gen)
 	{
 		double pause = 0.5;	 // between connection attempts, doubling to 5 s
-		bool everConnected = false;
-		auto lostAt = Clock::now();
-		while (!m_stop)
+		while (current(s, gen))
 		{
 			auto sensor = mrpt::hwdrivers::CGenericSensor::createSensorPtr(s.driver);
-			// The driver's own warnings and errors become notes, once each until it connects.
-			std::string lastLog;
+			// The driver's own warnings and errors become notes (each once in a row) once it delivered data.
+			auto lastLog = std::make_shared<std::string>();
 			if (auto* logger = dynamic_cast<mrpt::system::COutputLogger*>(sensor.get()))
 			{
 				logger->logging_enable_console_output = false;
-				logger->logRegisterCallback([&](std::string_view msg, mrpt::system::VerbosityLevel level,
-												std::string_view, const mrpt::Clock::time_point&) {
+				logger->logRegisterCallback([this, &s, gen, lastLog](std::string_view msg, mrpt::system::VerbosityLevel level,
+																	 std::string_view, const mrpt::Clock::time_point&) {
 					if (level < mrpt::system::LVL_WARN) return;
 					const std::string m = oneLine(std::string(msg));
-					if (m.empty() || m == lastLog) return;
-					lastLog = m;
+					if (m.empty() || m == *lastLog) return;
+					*lastLog = m;
+					bool tell = false;
 					{
 						std::lock_guard<std::mutex> lock(m_mutex);
+						if (s.generation != gen) return;
 						s.lastError = m;
+						tell = s.connected;
 					}
-					if (everConnected) note(s, m);
+					if (tell) note(s, m);
 				});
 			}
-			bool failed = false;
 			std::string why;
-			try
-			{
-				sensor->loadConfig(m_cfg, s.section);
-				sensor->initialize();
-			}
-			catch (const std::exception& e)
-			{
-				failed = true;
-				why = lastMessage(e.what());
-			}
+			bool ok = true;
+			// Starting may take long (CLMS100Eth: 15 s); a poll must return within a few sensor periods.
+			if (!driverCall(s, gen, m_connectTimeout, [&] {
+					try
+					{
+						sensor->loadConfig(m_cfg, s.section);
+						sensor->initialize();
+					}
+					catch (const std::exception& e)
+					{
+						ok = false;
+						why = lastMessage(e.what());
+					}
+				}))
+				return;	 // abandoned: a newer worker has the sensor
 			const double period = 1.0 / std::max(1e-3, sensor->getProcessRate());
 			auto lastData = Clock::now();
 			auto next = Clock::now();
 			bool gotData = false;
-			while (!failed && !m_stop)
+			while (ok && current(s, gen))
 			{
-				try
-				{
-					sensor->doProcess();
-				}
-				catch (const std::exception& e)
-				{
-					why = lastMessage(e.what());
-					break;
-				}
-				if (sensor->getState() == mrpt::hwdrivers::CGenericSensor::ssError)
-				{
-					why = "the driver reports an error" + (lastLog.empty() ? std::string() : ": " + lastLog);
-					break;
-				}
 				mrpt::hwdrivers::CGenericSensor::TListObservations objs;
-				sensor->getObservations(objs);
+				bool threw = false;
+				if (!driverCall(s, gen, std::max(3.0, 2 * m_silence), [&] {
+						try
+						{
+							sensor->doProcess();
+							sensor->getObservations(objs);
+						}
+						catch (const std::exception& e)
+						{
+							threw = true;
+							why = lastMessage(e.what());
+						}
+					}))
+					return;
+				if (threw) break;
+				if (sensor->getState() == mrpt::hwdrivers::CGenericSensor::ssError && objs.empty())
+				{
+					why = "the driver reports an error" + (lastLog->empty() ? std::string() : ": " + *lastLog);
+					break;
+				}
 				for (const auto& [t, obj] : objs)
 				{
 					(void)t;
 					if (!obj) continue;
+					if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obj))
+					{
+						if (scan->getScanSize() < 2) continue;	// not data (CLMS100Eth after a disconnect)
+						if (s.driver == "CLMS100Eth") scan->rightToLeft = true;	 // see the top of this file
+					}
 					if (!gotData)
 					{
 						gotData = true;
-						if (everConnected)
-						{
-							char b[64];
-							std::snprintf(b, sizeof b, "reconnected after %.1f s", since(lostAt));
-							note(s, b);
-						}
-						everConnected = true;
-						pause = 0.5;
+						bool wasConnected = false;
+						double silent = 0;
 						{
 							std::lock_guard<std::mutex> lock(m_mutex);
+							if (s.generation != gen) return;
+							wasConnected = s.connected;
 							s.connected = true;
+							silent = since(s.lastData);
 						}
 						m_cv.notify_all();
+						if (wasConnected)
+						{
+							char b[64];
+							std::snprintf(b, sizeof b, "reconnected after %.1f s without data", silent);
+							note(s, b);
+						}
+						pause = 0.5;
+					}
+					{
+						std::lock_guard<std::mutex> lock(m_mutex);
+						if (s.generation != gen || m_stop) return;
+						s.lastData = lastData = Clock::now();
 					}
 					m_push(m_ctx, &obj);
-					lastData = Clock::now();
 				}
 				if (since(lastData) > m_silence)
 				{
@@ -264,15 +402,15 @@ class Hub
 				std::unique_lock<std::mutex> lock(m_mutex);
 				if (m_cv.wait_until(lock, next, [&] { return m_stop.load(); })) break;
 			}
-			if (m_stop) break;
-			if (gotData) lostAt = Clock::now();
-			if (everConnected)
-				note(s, (gotData ? "connection lost (" : "reconnection failed (") + oneLine(why) + "): retrying");
-			else if (!why.empty())
+			if (!current(s, gen)) break;
+			bool wasConnected = false;
 			{
 				std::lock_guard<std::mutex> lock(m_mutex);
-				s.lastError = oneLine(why);
+				wasConnected = s.connected;
+				if (!why.empty()) s.lastError = oneLine(why);
 			}
+			if (wasConnected)
+				note(s, (gotData ? "connection lost (" : "reconnection failed (") + oneLine(why) + "): retrying");
 			sensor.reset();	 // closes the device before the next attempt
 			if (!sleepFor(pause)) break;
 			pause = std::min(5.0, 2 * pause);
@@ -289,6 +427,9 @@ class Hub
 	std::mutex m_mutex;
 	std::condition_variable m_cv;
 	std::atomic<bool> m_stop{false};
+	bool m_stopped = false;
+	std::size_t m_stuck = 0;
+	std::thread m_watchdog;
 };
 
 }  // namespace
@@ -304,8 +445,17 @@ extern "C"
 		std::string err = hub->load() ? hub->start() : std::string(ini) + ": cannot read the file";
 		if (err.empty()) return hub.release();
 		std::snprintf(error, errorSize, "%s", err.c_str());
+		if (hub->stuck()) hub.release();  // a detached thread still uses it: left to the process's exit
 		return nullptr;
 	}
 
-	__attribute__((visibility("default"))) void pmslam_sensors_stop(void* hub) { delete static_cast<Hub*>(hub); }
+	/** Stops and frees the hub; returns how many sensor threads were stuck in their driver (then the hub is
+	 * left allocated for them, and the caller should end the process without static destructors). */
+	__attribute__((visibility("default"))) size_t pmslam_sensors_stop(void* hub)
+	{
+		auto* h = static_cast<Hub*>(hub);
+		const std::size_t stuck = h->stop();
+		if (!stuck) delete h;
+		return stuck;
+	}
 }

@@ -322,6 +322,16 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		linWindow += PM_options.relocalizeOdometryError * odometryStep;
 		angWindow += PM_options.relocalizeOdometryError * std::abs(odometryTurn);
 	}
+	// No odometry at all (a lidar alone, live): across a gap the robot went anywhere it could drive
+	// in that time (a sensor unplugged and back, scans lost), so the prediction is stale and the
+	// window is searched even when the match there looks good (along a corridor it may be a
+	// look-alike a few metres back).
+	const bool stale = gap && !odomNow && std::isfinite(sincePrevious);
+	if (stale)
+	{
+		linWindow += PM_options.relocalizeSpeed * sincePrevious;
+		angWindow += PM_options.relocalizeTurnRate * sincePrevious;
+	}
 	linWindow = std::min(linWindow, PM_options.relocalizeMaxLinear);
 	angWindow = std::min(angWindow, M_PI);
 	if (std::isfinite(now)) m_lastScanTime = now;
@@ -337,7 +347,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 				prior = PerfectMatchMatcher::PosePrior::diagonal(r.predicted, PM_options.odometryPriorSigmaXY,
 																 PM_options.odometryPriorSigmaPhi);
 			const mrpt::math::TPose2D est =
-				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r);
+				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r, stale);
 			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 			if (std::isfinite(now)) m_lastMatchTime = now;
 			keepReferenceRanges(scan);
@@ -516,7 +526,7 @@ bool PerfectMatchSlam::acceptable(const PerfectMatchMatcher::MatchInfo& info) co
 mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TPoint2Df>& hits,
 												 const mrpt::math::TPose2D& predicted,
 												 const PerfectMatchMatcher::PosePrior* prior, double linWindow,
-												 double angWindow, ScanResult& r)
+												 double angWindow, ScanResult& r, bool alwaysSearch)
 {
 	const DynamicDistanceMap& dm = m_grid->distanceMap();
 	// PM from `start`. Points in unexplored space far from any obstacle are left out of the
@@ -537,7 +547,7 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 	// The cheap test: a match that explains the scan well needs no search, whatever came before
 	// (after a gap, a jump or a rejection the window is only wider).
 	const bool poor = PM_options.wideSearchBelowGoodness > 0 && r.info.goodness < PM_options.wideSearchBelowGoodness;
-	if (!poor || (linWindow <= 0 && angWindow <= 0)) return best;
+	if ((!poor && !alwaysSearch) || (linWindow <= 0 && angWindow <= 0)) return best;
 	r.wideSearch = true;
 	++m_wideSearches;
 
@@ -545,8 +555,9 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 		CorrelativeSearch::coarseToFine(dm, hits, predicted, linWindow, angWindow);
 	// A pose away from the prediction must be clearly better than the match there, and explain
 	// the scan as a normal match does: after a gap or in a look-alike place a mediocre candidate
-	// is more often a wrong pose than a right one.
-	const double margin = 0.15;
+	// is more often a wrong pose than a right one. A stale prediction (alwaysSearch) has no such
+	// claim: the best explanation of the scan wins.
+	const double margin = alwaysSearch ? 0.0 : 0.15;
 	double bestGoodness = std::max(r.info.goodness + margin, PM_options.wideSearchBelowGoodness);
 	for (const auto& c : starts)
 	{

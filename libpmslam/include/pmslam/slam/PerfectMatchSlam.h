@@ -308,10 +308,11 @@ class PerfectMatchSlam
 	std::vector<TrackingGap> m_gaps;
 	double m_lastScanTime = std::nan(""), m_lastAcceptedTime = std::nan(""), m_lastMatchTime = std::nan("");
 	bool m_lost = false;  // the last match was rejected
-	/** PM from the prediction, and the wide search where that is not good enough. */
+	/** PM from the prediction, and the wide search where that is not good enough (or always, with
+	 * `alwaysSearch`: a prediction known to be stale, where a good-looking match may be a look-alike). */
 	mrpt::math::TPose2D matchScan(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& predicted,
 								  const PerfectMatchMatcher::PosePrior* prior, double linWindow, double angWindow,
-								  ScanResult& r);
+								  ScanResult& r, bool alwaysSearch = false);
 	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
 	/** The curvature of the match of `hits` at `pose` with each point pulling only across its surface. */
 	Eigen::Matrix3d surfaceCurvature(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& pose) const;
