@@ -253,6 +253,19 @@ void expectLiveRunMatchesTruthAndReplays(const std::string& protocol, const std:
 	EXPECT_LT(e.meanRotDeg, 0.5) << protocol;
 	EXPECT_LT(e.maxDrift, 0.15) << protocol;
 
+	// MRPT's own tools read the recording as a rawlog-grabber file: observations only, every one received.
+	std::size_t recorded = 0;
+	const auto rat = r.output.find("recorded ");
+	ASSERT_NE(rat, std::string::npos) << r.output;
+	ASSERT_EQ(std::sscanf(r.output.c_str() + rat, "recorded %zu", &recorded), 1);
+	if (fs::exists("/usr/bin/rawlog-edit"))
+	{
+		const auto info = run("rawlog-edit --info -i " + quote(rec.string()));
+		EXPECT_NE(info.output.find("Observations format               : Yes"), std::string::npos) << info.output;
+		EXPECT_NE(info.output.find("Overall number of objects         : " + std::to_string(recorded) + "\n"),
+				  std::string::npos)
+			<< info.output;
+	}
 	// The recording, mapped offline, gives exactly the live trajectory (so, as well as an offline run of the
 	// same scans does).
 	ASSERT_TRUE(fs::exists(rec));
@@ -344,17 +357,26 @@ TEST(LiveSensors, ASlamSlowerThanItsSensorDropsTheOldestScansAndSaysSo)
 
 TEST(LiveSensors, GarbageFromTheSensorIsAClearErrorNotACrash)
 {
-	const fs::path dir = tempDir("garbage");
-	Emulator emu(dir, "scip", {"--garbage"});
-	ASSERT_GT(emu.port, 0);
-	const fs::path out = dir / "out";
-	const auto r = run("timeout -k 10 60 " + quote(kBin + "pm-slam-app") + " --live " +
-					   quote(writeIni(dir, hokuyoIni(emu.port)).string()) + " --out " + quote(out.string()) +
-					   " --connect-timeout 3");
-	EXPECT_EQ(r.exitCode, 2) << r.output;
-	EXPECT_NE(r.output.find("sensors.ini: [LIDAR] (CHokuyoURG): no data within"), std::string::npos) << r.output;
-	EXPECT_FALSE(fs::exists(out));	// nothing half-written
-	fs::remove_all(dir);
+	// CHokuyoURG gives up on garbage and delivers nothing; CLMS100Eth's initialize() never returns on it (its
+	// thread is left behind): both end as the same one-line error, exit status 2, nothing written.
+	for (const std::string protocol : {"scip", "lms1xx"})
+	{
+		const fs::path dir = tempDir("garbage_" + protocol);
+		Emulator emu(dir, protocol, {"--garbage"});
+		ASSERT_GT(emu.port, 0);
+		const fs::path out = dir / "out";
+		const bool hokuyo = protocol == "scip";
+		const auto r = run("timeout -k 10 60 " + quote(kBin + "pm-slam-app") + " --live " +
+						   quote(writeIni(dir, hokuyo ? hokuyoIni(emu.port) : sickIni(emu.port)).string()) + " --out " +
+						   quote(out.string()) + " --connect-timeout 3");
+		EXPECT_EQ(r.exitCode, 2) << r.output;
+		EXPECT_NE(r.output.find(hokuyo ? "sensors.ini: [LIDAR] (CHokuyoURG): no data within 3 s"
+									   : "sensors.ini: [SICK] (CLMS100Eth): no data within 3 s"),
+				  std::string::npos)
+			<< r.output;
+		EXPECT_FALSE(fs::exists(out));	// nothing half-written
+		fs::remove_all(dir);
+	}
 }
 
 TEST(LiveSensors, SensorsThatCannotStartAreClearErrorsNamingTheirSection)
