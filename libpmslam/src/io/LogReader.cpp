@@ -19,6 +19,17 @@ void LogReader::warn(const std::string& message)
 	if (onWarning) onWarning(message);
 }
 
+bool LogReader::deliver(std::deque<LogEvent>& queue, LogEvent& ev)
+{
+	ev = std::move(queue.front());
+	queue.pop_front();
+	if (ev.kind == LogEvent::Kind::Scan)
+		++m_stats.scans;
+	else
+		++m_stats.odometry;
+	return true;
+}
+
 std::string LogReader::exceptionSummary(const std::string& what)
 {
 	std::istringstream ss(what);

@@ -228,13 +228,7 @@ bool RawlogReader::next(LogEvent& ev)
 
 		d.events->add(obj, d.objects, d.queue);
 	}
-	ev = std::move(d.queue.front());
-	d.queue.pop_front();
-	if (ev.kind == LogEvent::Kind::Scan)
-		++m_stats.scans;
-	else
-		++m_stats.odometry;
-	return true;
+	return deliver(d.queue, ev);
 }
 
 }  // namespace pmslam

@@ -50,12 +50,18 @@ void RawlogRecorder::write(const mrpt::serialization::CSerializable& obj)
 	++m_objects;
 }
 
-void RawlogRecorder::close()
+bool RawlogRecorder::finishStream()
 {
-	if (!m_impl->open) return;
+	if (!m_impl->open) return false;
 	m_impl->open = false;
 	m_impl->arch.reset();
 	m_impl->out.close();
+	return true;
+}
+
+void RawlogRecorder::close()
+{
+	if (!finishStream()) return;
 	std::error_code ec;
 	std::filesystem::rename(m_path + ".part", m_path, ec);
 	if (ec) throw std::runtime_error("cannot rename '" + m_path + ".part' to '" + m_path + "': " + ec.message());
@@ -63,10 +69,7 @@ void RawlogRecorder::close()
 
 void RawlogRecorder::abandon()
 {
-	if (!m_impl->open) return;
-	m_impl->open = false;
-	m_impl->arch.reset();
-	m_impl->out.close();
+	if (!finishStream()) return;
 	std::error_code ec;
 	std::filesystem::remove(m_path + ".part", ec);
 }

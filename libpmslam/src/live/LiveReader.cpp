@@ -48,13 +48,7 @@ bool LiveReader::next(LogEvent& ev)
 		m_stats.linesOrObjects = ++m_objects;
 		m_events.add(obj, m_objects, m_queue);
 	}
-	ev = std::move(m_queue.front());
-	m_queue.pop_front();
-	if (ev.kind == LogEvent::Kind::Scan)
-		++m_stats.scans;
-	else
-		++m_stats.odometry;
-	return true;
+	return deliver(m_queue, ev);
 }
 
 }  // namespace pmslam

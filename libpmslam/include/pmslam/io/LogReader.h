@@ -32,6 +32,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <cstddef>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -139,6 +140,8 @@ class LogReader
 	explicit LogReader(std::string path);
 	/** Counts the warning and hands it to onWarning. */
 	void warn(const std::string& message);
+	/** next()'s last step: moves the oldest of `queue` (not empty) into `ev` and counts it; true. */
+	bool deliver(std::deque<LogEvent>& queue, LogEvent& ev);
 	/** One line out of an (MRPT, possibly nested) exception text: the
 	 * innermost message, prefixed by the outermost class being deserialized. */
 	static std::string exceptionSummary(const std::string& what);

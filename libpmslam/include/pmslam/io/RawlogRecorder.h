@@ -35,6 +35,7 @@ class RawlogRecorder
 	const std::string& path() const { return m_path; }
 
    private:
+	bool finishStream();  ///< closes the stream; false if it was closed already
 	struct Impl;
 	std::unique_ptr<Impl> m_impl;
 	std::string m_path;
