@@ -561,13 +561,14 @@ int main(int argc, char** argv)
 				progress.updateText([&] {
 					std::vector<double> recent(latencyMs.end() - std::min<std::size_t>(latencyMs.size(), 400),
 											   latencyMs.end());
+					double deg = std::round(mrpt::RAD2DEG(traj.back().yaw));
+					if (deg == 0) deg = 0;	// not "-0"
 					char b[256];
 					std::snprintf(b, sizeof b,
 								  "received %zu scans, processed %zu, dropped %zu; latency p50 %.1f ms, p99 %.1f ms; "
 								  "pose %.2f %.2f %.0f deg",
 								  c.scans, traj.size(), c.droppedScans, pmslam::percentile(recent, 0.5),
-								  pmslam::percentile(recent, 0.99), traj.back().x, traj.back().y,
-								  mrpt::RAD2DEG(traj.back().yaw));
+								  pmslam::percentile(recent, 0.99), traj.back().x, traj.back().y, deg);
 					return std::string(b);
 				});
 			}
