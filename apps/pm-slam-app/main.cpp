@@ -106,6 +106,9 @@ than --max-untracked seconds of log somewhere (outputs written, each such span w
 130 interrupted (outputs still written; with --live and --follow, Ctrl-C is the normal end: 0).
 )";
 
+// The --gui view's longest side (pixels): a larger map is shown shrunk (each pixel its block's darkest cell).
+constexpr int kGuiMaxSide = 1600;
+
 // A stretch without an accepted match longer than this (s of log) is warned about.
 constexpr double kWarnUntrackedSeconds = 3.0;
 
@@ -482,6 +485,7 @@ int main(int argc, char** argv)
 	std::vector<ScanTiming> timing;
 	const auto wallStart = std::chrono::steady_clock::now();
 	auto lastGui = wallStart, lastSnapshot = wallStart;
+	std::chrono::steady_clock::duration guiPeriod = std::chrono::milliseconds(500);
 	// --live: from a scan's timestamp (the driver's clock) to its pose (ms), and drops already warned about.
 	std::vector<double> latencyMs;
 	// Test hook: PMSLAM_TEST_SCAN_DELAY_MS=N makes each live scan take N ms more, a SLAM slower than its sensors
@@ -588,8 +592,9 @@ int main(int argc, char** argv)
 				}
 				lastSnapshot = std::chrono::steady_clock::now();
 			}
-			if (window && std::chrono::steady_clock::now() - lastGui > std::chrono::milliseconds(500))
+			if (window && std::chrono::steady_clock::now() - lastGui > guiPeriod)
 			{
+				const auto renderStart = std::chrono::steady_clock::now();
 				// The current scan's returns, placed at the pose SLAM gave it.
 				std::vector<mrpt::math::TPoint2D> scanInMap;
 				const mrpt::poses::CPose2D pose(traj.back().x, traj.back().y, traj.back().yaw);
@@ -600,8 +605,12 @@ int main(int argc, char** argv)
 					scanInMap.emplace_back(wx, wy);
 				}
 				// With loop closure: the trajectory as the graph has it now, and the closures in blue.
-				window->show(pmslam::renderMap(slam.grid(), corrected(traj), scanInMap, loopLinks()));
+				window->show(pmslam::renderMap(slam.grid(), corrected(traj), scanInMap, loopLinks(), kGuiMaxSide));
 				lastGui = std::chrono::steady_clock::now();
+				// The view takes at most a tenth of the time: a large map is redrawn less often, and a live
+				// run never falls behind its sensors for the window's sake.
+				guiPeriod = std::max<std::chrono::steady_clock::duration>(std::chrono::milliseconds(500),
+																		   10 * (lastGui - renderStart));
 			}
 			if (args.maxScans && traj.size() >= args.maxScans) break;
 		}
@@ -785,7 +794,7 @@ int main(int argc, char** argv)
 	if (stuckSensors) std::_Exit(status);
 	if (window)
 	{
-		window->show(pmslam::renderMap(slam.grid(), traj, {}, loopLinks()));
+		window->show(pmslam::renderMap(slam.grid(), traj, {}, loopLinks(), kGuiMaxSide));
 		std::cout << "Close the window or press a key in it to exit." << std::endl;
 		window->waitForKey();  // returns at once when the window is closed
 		window.reset();

@@ -142,3 +142,53 @@ TEST(MapExport, PngIsThePictureRenderMapDraws)
 	EXPECT_GT(red, 60u);	// the trajectory: about 2.8 + 3.8 + 5.1 m at 5 cm per pixel
 	EXPECT_GT(blue, 40u);  // the loop-closure link, 3 m
 }
+
+TEST(MapExport, AShrunkViewShowsEachBlocksDarkestCellOrItsDrawing)
+{
+	pmslam::Trajectory path;
+	const auto m = roomMap(&path);
+	const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>> links = {{{0, 0}, {3, 0.5}}};
+	const mrpt::img::CImage full = pmslam::renderMap(m, path, {}, links);
+	const int W = int(full.getWidth()), H = int(full.getHeight());
+	const int maxSide = std::max(W, H) / 3 - 1;	 // a factor of 4
+	const mrpt::img::CImage small = pmslam::renderMap(m, path, {}, links, maxSide);
+	const int k = (std::max(W, H) + maxSide - 1) / maxSide;
+	ASSERT_EQ(k, 4);
+	ASSERT_EQ(int(small.getWidth()), (W + k - 1) / k);
+	ASSERT_EQ(int(small.getHeight()), (H + k - 1) / k);
+	EXPECT_LE(std::max(small.getWidth(), small.getHeight()), unsigned(maxSide));
+	std::size_t walls = 0, drawn = 0;
+	for (int oy = 0; oy < int(small.getHeight()); ++oy)
+		for (int ox = 0; ox < int(small.getWidth()); ++ox)
+		{
+			// Brute force over the block of the full picture: the last drawn pixel in row order, else the darkest.
+			int darkest = 255;
+			const uint8_t* colour = nullptr;
+			for (int y = oy * k; y < std::min(H, (oy + 1) * k); ++y)
+				for (int x = ox * k; x < std::min(W, (ox + 1) * k); ++x)
+				{
+					const uint8_t* p = full(x, y);
+					if (p[0] != p[1] || p[1] != p[2])
+						colour = p;
+					else
+						darkest = std::min(darkest, int(p[0]));
+				}
+			const uint8_t* q = small(ox, oy);
+			if (colour)
+			{
+				for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(q[ch], colour[ch]) << ox << "," << oy;
+				++drawn;
+			}
+			else
+			{
+				for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(int(q[ch]), darkest) << ox << "," << oy;
+				walls += darkest < 100;
+			}
+		}
+	EXPECT_GT(walls, 50u);	// the room's walls survive the shrinking
+	EXPECT_GT(drawn, 15u);
+	// No limit, or one the picture fits in: the full picture.
+	const mrpt::img::CImage same = pmslam::renderMap(m, path, {}, links, std::max(W, H));
+	ASSERT_EQ(int(same.getWidth()), W);
+	ASSERT_EQ(int(same.getHeight()), H);
+}

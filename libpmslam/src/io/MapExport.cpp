@@ -365,22 +365,42 @@ void saveMapPgmYaml(const mrpt::maps::COccupancyGridMap2D& grid, const std::stri
 
 mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path,
 							const std::vector<mrpt::math::TPoint2D>& scanInMap,
-							const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links)
+							const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links, int maxSide)
 {
 	const auto rows = rowsOf(grid);
 	MapPicture pic(*rows, path, scanInMap, links);
-	mrpt::img::CImage img(pic.width(), pic.height(), mrpt::img::CH_RGB);
-	std::vector<uint8_t> rgb(3 * std::size_t(pic.width()));
-	for (int y = 0; y < pic.height(); ++y)
+	const int k = maxSide > 0 ? std::max(1, (std::max(pic.width(), pic.height()) + maxSide - 1) / maxSide) : 1;
+	const int w = (pic.width() + k - 1) / k, h = (pic.height() + k - 1) / k;
+	mrpt::img::CImage img(w, h, mrpt::img::CH_RGB);
+	std::vector<uint8_t> rgb(3 * std::size_t(pic.width())), out(3 * std::size_t(w));
+	std::vector<bool> coloured(static_cast<std::size_t>(w));
+	for (int oy = 0; oy < h; ++oy)
 	{
-		pic.rgbRow(y, rgb.data());
-		// CImage is BGR in memory.
-		for (int x = 0; x < pic.width(); ++x)
+		std::fill(out.begin(), out.end(), uint8_t(255));
+		std::fill(coloured.begin(), coloured.end(), false);
+		for (int y = oy * k; y < std::min(pic.height(), (oy + 1) * k); ++y)
 		{
-			uint8_t* px = img(x, y);
-			px[0] = rgb[3 * x + 2];
-			px[1] = rgb[3 * x + 1];
-			px[2] = rgb[3 * x];
+			pic.rgbRow(y, rgb.data());
+			for (int x = 0; x < pic.width(); ++x)
+			{
+				const uint8_t* p = &rgb[3 * std::size_t(x)];
+				uint8_t* q = &out[3 * std::size_t(x / k)];
+				if (p[0] != p[1] || p[1] != p[2])  // drawn: wins over the map
+				{
+					std::memcpy(q, p, 3);
+					coloured[std::size_t(x / k)] = true;
+				}
+				else if (!coloured[std::size_t(x / k)] && p[0] < q[0])
+					q[0] = q[1] = q[2] = p[0];
+			}
+		}
+		// CImage is BGR in memory.
+		for (int x = 0; x < w; ++x)
+		{
+			uint8_t* px = img(x, oy);
+			px[0] = out[3 * std::size_t(x) + 2];
+			px[1] = out[3 * std::size_t(x) + 1];
+			px[2] = out[3 * std::size_t(x)];
 		}
 	}
 	return img;

@@ -33,10 +33,13 @@ void saveMapPgmYaml(const mrpt::maps::COccupancyGridMap2D& grid, const std::stri
 					const std::string& yamlPath);
 
 /** The mapped area as an RGB image (grey occupancy, trajectory in red, and optionally the current scan's
- * endpoints in the map frame in green), for display or saving. */
+ * endpoints in the map frame in green), for display or saving. With maxSide > 0 a larger area is shrunk by a
+ * whole factor until neither side exceeds it: each pixel shows the darkest cell of its block (walls stay
+ * visible), or a drawn colour if the block has one. */
 mrpt::img::CImage renderMap(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path,
 							const std::vector<mrpt::math::TPoint2D>& scanInMap = {},
-							const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links = {});
+							const std::vector<std::pair<mrpt::math::TPoint2D, mrpt::math::TPoint2D>>& links = {},
+							int maxSide = 0);
 
 /** A PNG picture of the mapped area with the trajectory drawn over it (and loop closures, in blue). */
 void saveMapPng(const mrpt::maps::COccupancyGridMap2D& grid, const Trajectory& path, const std::string& pngPath,
