@@ -69,6 +69,7 @@ struct Sensor
 	Clock::time_point lastData = Clock::now();	// the last observation delivered (by any worker)
 	Clock::time_point busySince{};	// the current worker entered a driver call then (epoch: not inside one)
 	double busyLimit = 0;  // s that call may take
+	double startSeconds = -1;  // how long the driver's start (loadConfig + initialize) took when it worked
 };
 
 class Hub
@@ -312,8 +313,16 @@ class Hub
 			}
 			std::string why;
 			bool ok = true;
-			// Starting may take long (CLMS100Eth: 15 s); a poll must return within a few sensor periods.
-			if (!driverCall(s, gen, m_connectTimeout, [&] {
+			// Starting may take long (CLMS100Eth: 15 s), so the first start has all of --connect-timeout; a
+			// restart as long as the first took, with a margin (CHokuyoURG's may hang); a poll must return
+			// within a few sensor periods.
+			double startLimit = m_connectTimeout;
+			{
+				std::lock_guard<std::mutex> lock(m_mutex);
+				if (s.startSeconds >= 0) startLimit = std::max(5.0, 2 * s.startSeconds + 2);
+			}
+			const auto startedAt = Clock::now();
+			if (!driverCall(s, gen, startLimit, [&] {
 					try
 					{
 						sensor->loadConfig(m_cfg, s.section);
@@ -326,6 +335,7 @@ class Hub
 					}
 				}))
 				return;	 // abandoned: a newer worker has the sensor
+			const double startTook = since(startedAt);
 			const double period = 1.0 / std::max(1e-3, sensor->getProcessRate());
 			auto lastData = Clock::now();
 			auto next = Clock::now();
@@ -373,6 +383,7 @@ class Hub
 							wasConnected = s.connected;
 							s.connected = true;
 							silent = since(s.lastData);
+							if (s.startSeconds < 0) s.startSeconds = startTook;
 						}
 						m_cv.notify_all();
 						if (wasConnected)
@@ -411,7 +422,8 @@ class Hub
 			}
 			if (wasConnected)
 				note(s, (gotData ? "connection lost (" : "reconnection failed (") + oneLine(why) + "): retrying");
-			sensor.reset();	 // closes the device before the next attempt
+			// Closes the device before the next attempt (a destructor that talks to a dead device may hang too).
+			if (!driverCall(s, gen, 5.0, [&] { sensor.reset(); })) return;
 			if (!sleepFor(pause)) break;
 			pause = std::min(5.0, 2 * pause);
 		}
