@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -222,7 +223,15 @@ Args parseArgs(int argc, char** argv)
 		usageError(std::string(a.live.empty() ? "--follow" : "--live") + " takes the place of LOG: give one or the other");
 	if (!a.record.empty() && a.live.empty()) usageError("--record needs --live (a log is its own recording)");
 	if (a.snapshotEvery < 0) a.snapshotEvery = (a.live.empty() && a.follow.empty()) ? 0 : 5;
-	if (!a.follow.empty()) positional.push_back(a.follow);
+	if (!a.follow.empty())
+	{
+		std::string ext = std::filesystem::path(a.follow).extension().string();
+		if (ext == ".gz") ext = std::filesystem::path(a.follow).stem().extension().string();
+		std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+		if (ext == ".clf" || ext == ".log" || ext == ".txt")
+			usageError("--follow " + a.follow + ": a Carmen log? --follow reads MRPT rawlogs (as rawlog-grabber writes them)");
+		positional.push_back(a.follow);
+	}
 	a.log = !a.live.empty() ? a.live : positional.empty() ? kDefaultLog : positional[0];
 	a.logGiven = !positional.empty() || !a.live.empty();
 	return a;

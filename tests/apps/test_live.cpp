@@ -410,6 +410,9 @@ TEST(LiveSensors, SensorsThatCannotStartAreClearErrorsNamingTheirSection)
 	r = run(quote(kBin + "pm-slam-app") + " --live " + quote((dir / "missing.ini").string()) + " --out " + quote(out.string()));
 	EXPECT_EQ(r.exitCode, 2);
 	EXPECT_NE(r.output.find("missing.ini: no such file"), std::string::npos) << r.output;
+	r = run(quote(kBin + "pm-slam-app") + " --follow robot.clf");
+	EXPECT_EQ(r.exitCode, 2);
+	EXPECT_NE(r.output.find("--follow reads MRPT rawlogs"), std::string::npos) << r.output;
 	r = run(quote(kBin + "pm-slam-app") + " --record x.rawlog some.rawlog");
 	EXPECT_EQ(r.exitCode, 2);
 	EXPECT_NE(r.output.find("--record needs --live"), std::string::npos) << r.output;
