@@ -292,6 +292,34 @@ TEST(LiveSensors, SickLms1xxMapsAsTheTruthAndTheRecordingReplaysExactly)
 	expectLiveRunMatchesTruthAndReplays("lms1xx", "sick", 30.0);
 }
 
+TEST(LiveSensors, TracksTheRobotOnTheMapOfAnEarlierRun)
+{
+	// Map today, localise tomorrow: a live run's map.gridmap.gz as the fixed map of a second live run.
+	const fs::path dir = tempDir("localize");
+	const fs::path mapped = dir / "mapped", tracked = dir / "tracked";
+	{
+		Emulator emu(dir, "scip");
+		ASSERT_GT(emu.port, 0);
+		const auto r = runLive(writeIni(dir, hokuyoIni(emu.port)), mapped, 9.0);
+		ASSERT_EQ(r.exitCode, 0) << r.output;
+	}
+	fs::rename(dir / "truth.txt", dir / "truth-mapped.txt");
+	Emulator emu(dir, "scip");	// the robot starts again where the map's first pose was
+	ASSERT_GT(emu.port, 0);
+	const auto r = runLive(writeIni(dir, hokuyoIni(emu.port)), tracked, 9.0,
+						   "--localize " + quote((mapped / "map.gridmap.gz").string()));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("localised on"), std::string::npos) << r.output;
+	const auto poses = loadPoses(tracked / "trajectory.txt");
+	ASSERT_GT(poses.size(), 150u);
+	const TruthError e = errorAgainstTruth(poses, loadPoses(dir / "truth.txt"));
+	EXPECT_LT(e.meanTrans, 0.02);
+	EXPECT_LT(e.maxDrift, 0.1);
+	// On the fixed map the pose is absolute: the robot's start, the map's origin.
+	EXPECT_LT(std::hypot(poses.front().x, poses.front().y), 0.05);
+	fs::remove_all(dir);
+}
+
 TEST(LiveSensors, ADisconnectMidRunIsReportedAndSurvived)
 {
 	const fs::path dir = tempDir("disconnect");
