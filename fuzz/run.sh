@@ -12,7 +12,7 @@ build="$here/build-fuzz"
 targets=(fuzz_carmen_line fuzz_rawlog fuzz_ini)
 
 # clang and its libFuzzer runtime (Debian 12: clang 14), besides what scripts/setup.sh installs.
-packages=(clang libclang-rt-14-dev cmake libmrpt-dev libmrpt-graphslam-dev libceres-dev libpng-dev zlib1g-dev libeigen3-dev)
+packages=(clang libclang-rt-14-dev cmake libmrpt-dev libmrpt-graphslam-dev libmrpt-hwdrivers-dev libceres-dev libpng-dev zlib1g-dev libeigen3-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
