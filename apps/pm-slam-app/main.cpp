@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <filesystem>
 #include <iostream>
@@ -114,13 +115,22 @@ constexpr int kGuiMaxSide = 1600;
 constexpr double kWarnUntrackedSeconds = 3.0;
 
 std::atomic<bool> g_stop{false};
+std::atomic<long long> g_stopAtNs{0};  // CLOCK_MONOTONIC of the first signal
 void onSignal(int sig)
 {
+	timespec ts{};
+	::clock_gettime(CLOCK_MONOTONIC, &ts);  // async-signal-safe
+	const long long now = (long long)ts.tv_sec * 1000000000LL + ts.tv_nsec;
 	if (g_stop)
-	{  // a second Ctrl-C / SIGTERM: stop now, without writing outputs
+	{
+		// A second Ctrl-C / SIGTERM: stop now, without writing outputs. Not a repeat within half a
+		// second: coreutils' timeout sends its signal to the process and to its group, so one timeout can
+		// deliver it twice.
+		if (now - g_stopAtNs.load() < 500000000LL) return;
 		std::signal(sig, SIG_DFL);
 		std::raise(sig);
 	}
+	g_stopAtNs = now;
 	g_stop = true;
 }
 

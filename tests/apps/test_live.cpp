@@ -383,6 +383,36 @@ TEST(LiveSensors, ASlamSlowerThanItsSensorDropsTheOldestScansAndSaysSo)
 	fs::remove_all(dir);
 }
 
+TEST(LiveSensors, OneStopSignalDeliveredTwiceIsStillACleanStopButALaterSecondOneEndsAtOnce)
+{
+	// coreutils' timeout signals the process and its group: the same stop can arrive twice within microseconds.
+	const fs::path dir = tempDir("twice");
+	Emulator emu(dir, "scip");
+	ASSERT_GT(emu.port, 0);
+	const fs::path ini = writeIni(dir, hokuyoIni(emu.port));
+	{
+		Process app({kBin + "pm-slam-app", "--live", ini.string(), "--out", (dir / "a").string()}, dir / "a.out");
+		std::this_thread::sleep_for(std::chrono::seconds(3));
+		app.signal(SIGINT);
+		app.signal(SIGINT);
+		EXPECT_EQ(app.wait(), 0) << readText(dir / "a.out");
+		EXPECT_TRUE(fs::exists(dir / "a" / "trajectory.txt"));
+	}
+	{
+		// A user's second Ctrl-C, 0.6 s later while the run is still finishing (200 ms per scan, 20 scans pending
+		// when the first came: 4 s of draining), ends it at once: killed by the signal, as documented.
+		::setenv("PMSLAM_TEST_SCAN_DELAY_MS", "200", 1);
+		Process app({kBin + "pm-slam-app", "--live", ini.string(), "--out", (dir / "b").string()}, dir / "b.out");
+		::unsetenv("PMSLAM_TEST_SCAN_DELAY_MS");
+		std::this_thread::sleep_for(std::chrono::seconds(4));
+		app.signal(SIGINT);
+		std::this_thread::sleep_for(std::chrono::milliseconds(600));
+		app.signal(SIGINT);
+		EXPECT_EQ(app.wait(), 128 + SIGINT) << readText(dir / "b.out");
+	}
+	fs::remove_all(dir);
+}
+
 TEST(LiveSensors, GarbageFromTheSensorIsAClearErrorNotACrash)
 {
 	// CHokuyoURG gives up on garbage and delivers nothing; CLMS100Eth's initialize() never returns on it (its
