@@ -22,6 +22,7 @@
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/system/COutputLogger.h>
+#include <pmslam/util/ExceptionText.h>
 
 #include <algorithm>
 #include <atomic>
@@ -124,7 +125,7 @@ class Hub
 			}
 			catch (const std::exception& e)
 			{
-				return m_ini + ": [" + s->section + "] (" + s->driver + "): " + oneLine(lastMessage(e.what()));
+				return m_ini + ": [" + s->section + "] (" + s->driver + "): " + pmslam::exceptionSummary(e.what());
 			}
 			if (!(probe->getProcessRate() > 0))
 				return m_ini + ": [" + s->section + "]: process_rate must be set (Hz, > 0), as for rawlog-grabber";
@@ -199,23 +200,6 @@ class Hub
 	std::size_t stuck() const { return m_stuck; }
 
    private:
-	static std::string lastMessage(const std::string& what)
-	{
-		// MRPT exceptions carry a stack of "file:line: ..." frames; the message is the useful part.
-		std::string best;
-		std::size_t pos = 0;
-		while (pos < what.size())
-		{
-			auto end = what.find('\n', pos);
-			if (end == std::string::npos) end = what.size();
-			std::string l = oneLine(what.substr(pos, end - pos));
-			if (l.rfind("Message:", 0) == 0) l = oneLine(l.substr(8));
-			if (!l.empty() && l.find("=====") == std::string::npos && l.rfind("[", 0) != 0) best = l;
-			pos = end + 1;
-		}
-		return best.empty() ? oneLine(what) : best;
-	}
-
 	void note(const Sensor& s, const std::string& what)
 	{
 		m_note(m_ctx, ("sensor [" + s.section + "] (" + s.driver + "): " + what).c_str());
@@ -331,7 +315,7 @@ class Hub
 					catch (const std::exception& e)
 					{
 						ok = false;
-						why = lastMessage(e.what());
+						why = pmslam::exceptionSummary(e.what());
 					}
 				}))
 				return;	 // abandoned: a newer worker has the sensor
@@ -353,7 +337,7 @@ class Hub
 						catch (const std::exception& e)
 						{
 							threw = true;
-							why = lastMessage(e.what());
+							why = pmslam::exceptionSummary(e.what());
 						}
 					}))
 					return;
@@ -418,10 +402,10 @@ class Hub
 			{
 				std::lock_guard<std::mutex> lock(m_mutex);
 				wasConnected = s.connected;
-				if (!why.empty()) s.lastError = oneLine(why);
+				if (!why.empty()) s.lastError = why;
 			}
 			if (wasConnected)
-				note(s, (gotData ? "connection lost (" : "reconnection failed (") + oneLine(why) + "): retrying");
+				note(s, (gotData ? "connection lost (" : "reconnection failed (") + why + "): retrying");
 			// Closes the device before the next attempt (a destructor that talks to a dead device may hang too).
 			if (!driverCall(s, gen, 5.0, [&] { sensor.reset(); })) return;
 			if (!sleepFor(pause)) break;

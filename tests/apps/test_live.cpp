@@ -462,6 +462,12 @@ TEST(LiveSensors, SensorsThatCannotStartAreClearErrorsNamingTheirSection)
 	r = live("[LIDAR]\nprocess_rate = 10\n");
 	EXPECT_EQ(r.exitCode, 2);
 	EXPECT_NE(r.output.find("[LIDAR]: no 'driver' key"), std::string::npos) << r.output;
+	// A key the driver refuses: its own message, out of MRPT's exception text (not its call stack).
+	r = live("[LIDAR]\ndriver = CHokuyoURG\nprocess_rate = 10\n");
+	EXPECT_EQ(r.exitCode, 2);
+	EXPECT_NE(r.output.find("[LIDAR] (CHokuyoURG): Either COM_port or IP_DIR must be defined in the configuration file!\n"),
+			  std::string::npos)
+		<< r.output;
 	r = live("[LIDAR]\ndriver = CHokuyoURG\nIP_DIR = 127.0.0.1\nPORT_DIR = 1\n");
 	EXPECT_EQ(r.exitCode, 2);
 	EXPECT_NE(r.output.find("[LIDAR]: process_rate must be set"), std::string::npos) << r.output;

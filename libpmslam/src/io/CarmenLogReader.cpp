@@ -7,6 +7,7 @@
 #include <mrpt/obs/carmen_log_tools.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
+#include <pmslam/util/ExceptionText.h>
 #include <pmslam/io/CarmenLogReader.h>
 
 #include <algorithm>

@@ -8,6 +8,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <pmslam/io/CarmenLogReader.h>
 #include <pmslam/io/LogReader.h>
+#include <pmslam/util/ExceptionText.h>
 #include <pmslam/io/RawlogReader.h>
 
 #include <algorithm>

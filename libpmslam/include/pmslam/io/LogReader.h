@@ -142,9 +142,6 @@ class LogReader
 	void warn(const std::string& message);
 	/** next()'s last step: moves the oldest of `queue` (not empty) into `ev` and counts it; true. */
 	bool deliver(std::deque<LogEvent>& queue, LogEvent& ev);
-	/** One line out of an (MRPT, possibly nested) exception text: the
-	 * innermost message, prefixed by the outermost class being deserialized. */
-	static std::string exceptionSummary(const std::string& what);
 
 	std::string m_path;
 	LogReadStats m_stats;
