@@ -12,19 +12,16 @@ ProgressLine::ProgressLine(bool enabled, std::size_t total)
 
 void ProgressLine::update(std::size_t done)
 {
-	if (!m_enabled) return;
-	const auto now = std::chrono::steady_clock::now();
-	if (now - m_last < std::chrono::milliseconds(250)) return;
-	m_last = now;
-	const double s = std::chrono::duration<double>(now - m_start).count();
-	const double rate = s > 0 ? done / s : 0.0;
-	if (m_total > done && rate > 0)
-		std::fprintf(stderr, "\r%zu/%zu scans, %.0f scans/s, ETA %.0f s   ", done, m_total, rate,
-					 (m_total - done) / rate);
-	else
-		std::fprintf(stderr, "\r%zu scans, %.0f scans/s   ", done, rate);
-	std::fflush(stderr);
-	m_shown = true;
+	updateText([&] {
+		const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+		const double rate = s > 0 ? done / s : 0.0;
+		char b[160];
+		if (m_total > done && rate > 0)
+			std::snprintf(b, sizeof b, "%zu/%zu scans, %.0f scans/s, ETA %.0f s", done, m_total, rate, (m_total - done) / rate);
+		else
+			std::snprintf(b, sizeof b, "%zu scans, %.0f scans/s", done, rate);
+		return std::string(b);
+	});
 }
 
 void ProgressLine::updateText(const std::function<std::string()>& line)

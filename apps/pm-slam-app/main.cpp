@@ -8,7 +8,6 @@
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
 #include <pmslam/io/LogReader.h>
-#include <pmslam/io/RawlogReader.h>
 #include <pmslam/io/RawlogRecorder.h>
 #include <pmslam/live/LiveReader.h>
 #include <pmslam/live/PendingObservations.h>
@@ -23,7 +22,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -168,6 +166,14 @@ Args parseArgs(int argc, char** argv)
 			if (i + 1 >= argc) usageError(std::string(name) + " needs a value");
 			return argv[++i];
 		};
+		auto wholeNumber = [&](const char* name, long least) {
+			const std::string v = value(name);
+			char* end = nullptr;
+			const long n = std::strtol(v.c_str(), &end, 10);
+			if (end == v.c_str() || *end || n < least)
+				usageError(std::string(name) + " '" + v + "': expected a whole number >= " + std::to_string(least));
+			return static_cast<std::size_t>(n);
+		};
 		auto seconds = [&](const char* name) {
 			const std::string v = value(name);
 			char* end = nullptr;
@@ -184,14 +190,7 @@ Args parseArgs(int argc, char** argv)
 		else if (s == "--config") a.config = value("--config");
 		else if (s == "--set") a.sets.push_back(value("--set"));
 		else if (s == "--out") a.out = value("--out"), a.outGiven = true;
-		else if (s == "--max-scans")
-		{
-			const std::string v = value("--max-scans");
-			char* end = nullptr;
-			const long n = std::strtol(v.c_str(), &end, 10);
-			if (end == v.c_str() || *end || n < 0) usageError("--max-scans '" + v + "': expected a whole number >= 0");
-			a.maxScans = static_cast<std::size_t>(n);
-		}
+		else if (s == "--max-scans") a.maxScans = wholeNumber("--max-scans", 0);
 		else if (s == "--localize") a.localize = value("--localize");
 		else if (s == "--initial-pose")
 		{
@@ -211,14 +210,7 @@ Args parseArgs(int argc, char** argv)
 		else if (s == "--record") a.record = value("--record");
 		else if (s == "--snapshot-every") a.snapshotEvery = seconds("--snapshot-every");
 		else if (s == "--connect-timeout") a.connectTimeout = seconds("--connect-timeout");
-		else if (s == "--max-pending")
-		{
-			const std::string v = value("--max-pending");
-			char* end = nullptr;
-			const long n = std::strtol(v.c_str(), &end, 10);
-			if (end == v.c_str() || *end || n < 1) usageError("--max-pending '" + v + "': expected a whole number >= 1");
-			a.maxPending = static_cast<std::size_t>(n);
-		}
+		else if (s == "--max-pending") a.maxPending = wholeNumber("--max-pending", 1);
 		else if (s == "--gui") a.gui = true;
 		else if (s == "--quiet") a.quiet = true;
 		else if (s == "--progress") a.progress = 1;
@@ -233,15 +225,7 @@ Args parseArgs(int argc, char** argv)
 		usageError(std::string(a.live.empty() ? "--follow" : "--live") + " takes the place of LOG: give one or the other");
 	if (!a.record.empty() && a.live.empty()) usageError("--record needs --live (a log is its own recording)");
 	if (a.snapshotEvery < 0) a.snapshotEvery = (a.live.empty() && a.follow.empty()) ? 0 : 5;
-	if (!a.follow.empty())
-	{
-		std::string ext = std::filesystem::path(a.follow).extension().string();
-		if (ext == ".gz") ext = std::filesystem::path(a.follow).stem().extension().string();
-		std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-		if (ext == ".clf" || ext == ".log" || ext == ".txt")
-			usageError("--follow " + a.follow + ": a Carmen log? --follow reads MRPT rawlogs (as rawlog-grabber writes them)");
-		positional.push_back(a.follow);
-	}
+	if (!a.follow.empty()) positional.push_back(a.follow);
 	a.log = !a.live.empty() ? a.live : positional.empty() ? kDefaultLog : positional[0];
 	a.logGiven = !positional.empty() || !a.live.empty();
 	return a;
@@ -383,7 +367,7 @@ int main(int argc, char** argv)
 			opts.follow = true;
 			opts.followTimeout = args.followTimeout;
 			opts.stopRequested = [] { return g_stop.load(); };
-			reader = std::make_unique<pmslam::RawlogReader>(args.follow, opts);
+			reader = pmslam::LogReader::open(args.follow, opts);
 		}
 		else
 			reader = pmslam::LogReader::open(args.log, cfg.log);

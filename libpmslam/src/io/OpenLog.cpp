@@ -154,13 +154,23 @@ bool startsWithRawlogObject(const std::string& path, double objectTimeout, std::
 std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogReaderOptions& opts)
 {
 	namespace fs = std::filesystem;
+	if (opts.follow)
+	{
+		const std::string ext = logExtension(path);
+		if (ext == ".clf" || ext == ".log" || ext == ".txt")
+			throw LogError("pmslam: '" + path + "' is named as a Carmen log: --follow reads MRPT rawlogs (as rawlog-grabber "
+						   "writes them)");
+	}
+	const std::string expected = opts.follow ? "expected an MRPT .rawlog to follow" : kExpected;
 	std::error_code ec;
 	const auto st = fs::status(path, ec);
 	if (!path.empty() && ec && st.type() == fs::file_type::none)  // e.g. a folder on the way is not searchable
-		throw LogError("pmslam: cannot access log file '" + path + "' (" + ec.message() + "), " + kExpected);
-	if (path.empty() || !fs::exists(st)) throw LogError("pmslam: log file '" + path + "' does not exist (" + kExpected + ")");
-	if (fs::is_directory(st)) throw LogError("pmslam: '" + path + "' is a directory, " + kExpected);
-	if (!fs::is_regular_file(st)) throw LogError("pmslam: '" + path + "' is not a regular file, " + kExpected);
+		throw LogError("pmslam: cannot access log file '" + path + "' (" + ec.message() + "), " + expected);
+	if (path.empty() || !fs::exists(st)) throw LogError("pmslam: log file '" + path + "' does not exist (" + expected + ")");
+	if (fs::is_directory(st)) throw LogError("pmslam: '" + path + "' is a directory, " + expected);
+	if (!fs::is_regular_file(st)) throw LogError("pmslam: '" + path + "' is not a regular file, " + expected);
+	// Still being written: it may be empty yet, and only a rawlog can be followed (RawlogReader.h).
+	if (opts.follow) return std::make_unique<RawlogReader>(path, opts);
 	const auto size = fs::file_size(path, ec);
 	if (ec) throw LogError("pmslam: cannot read log file '" + path + "' (" + ec.message() + "), " + kExpected);
 	if (size == 0) throw LogError("pmslam: log file '" + path + "' is empty, " + kExpected);

@@ -118,7 +118,8 @@ class LogReader
 	 * anything whose first non-comment line starts with a Carmen keyword; may
 	 * be gz-compressed). Throws pmslam::LogError with a one-line message
 	 * naming the file and what was expected: missing file, directory, empty
-	 * file, unknown format. */
+	 * file, unknown format. With opts.follow the file is a rawlog still being
+	 * written (it may be empty yet; a Carmen log's name is refused). */
 	static std::unique_ptr<LogReader> open(const std::string& path, const LogReaderOptions& opts = {});
 
 	/** Next event in file order; false at end of log (or at unrecoverable
