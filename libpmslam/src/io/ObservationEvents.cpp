@@ -89,6 +89,12 @@ ObservationEvents::ObservationEvents(const LogReaderOptions& opts, std::string s
 {
 }
 
+void ObservationEvents::skip(std::size_t index, const std::string& why)
+{
+	++m_stats.skipped;
+	m_warn(m_source + ": object " + std::to_string(index) + ": " + why + ", skipped");
+}
+
 void ObservationEvents::push(LogEvent&& e, std::deque<LogEvent>& out)
 {
 	if (e.kind == LogEvent::Kind::Odometry) m_odomEmitted = true;
@@ -127,9 +133,7 @@ void ObservationEvents::addObservation(const mrpt::obs::CObservation::Ptr& o, st
 		{
 			if (scan->getScanSize() < 2)
 			{
-				++m_stats.skipped;
-				m_warn(m_source + ": object " + std::to_string(index) + ": scan with " +
-					 std::to_string(scan->getScanSize()) + " beams, skipped");
+				skip(index, "scan with " + std::to_string(scan->getScanSize()) + " beams");
 				return;
 			}
 			if (hasCarmenImportGeometry(*scan))
@@ -148,8 +152,7 @@ void ObservationEvents::addObservation(const mrpt::obs::CObservation::Ptr& o, st
 			}
 			if (const std::string why = badGeometry(*scan); !why.empty())
 			{
-				++m_stats.skipped;
-				m_warn(m_source + ": object " + std::to_string(index) + ": scan with " + why + ", skipped");
+				skip(index, "scan with " + why);
 				return;
 			}
 			bool anyValid = false;
@@ -164,8 +167,7 @@ void ObservationEvents::addObservation(const mrpt::obs::CObservation::Ptr& o, st
 			}
 			if (!anyValid)
 			{  // as for Carmen lines: nothing to match or map
-				++m_stats.skipped;
-				m_warn(m_source + ": object " + std::to_string(index) + ": scan has no valid beam, skipped");
+				skip(index, "scan has no valid beam");
 				return;
 			}
 			LogEvent e;
@@ -179,8 +181,7 @@ void ObservationEvents::addObservation(const mrpt::obs::CObservation::Ptr& o, st
 		{
 			if (!plausible(od->odometry.asTPose()))	 // NaN fails too
 			{
-				++m_stats.skipped;
-				m_warn(m_source + ": object " + std::to_string(index) + ": implausible odometry pose, skipped");
+				skip(index, "implausible odometry pose");
 				return;
 			}
 			LogEvent e;
@@ -203,8 +204,7 @@ void ObservationEvents::add(const mrpt::serialization::CSerializable::Ptr& obj, 
 							plausible((m_odom + mv->poseChange->getMeanVal()).asTPose());
 		if (mv && mv->poseChange && !usable)
 		{
-			++m_stats.skipped;
-			m_warn(m_source + ": object " + std::to_string(index) + ": implausible odometry increment, skipped");
+			skip(index, "implausible odometry increment");
 		}
 		if (usable)
 		{

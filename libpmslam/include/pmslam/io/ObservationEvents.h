@@ -46,6 +46,8 @@ class ObservationEvents
 
    private:
 	void push(LogEvent&& e, std::deque<LogEvent>& out);
+	/** Counts object `index` as skipped, with the warning "SOURCE: object INDEX: WHY, skipped". */
+	void skip(std::size_t index, const std::string& why);
 	void flushHeld(double ts, std::deque<LogEvent>& out);
 	void addObservation(const mrpt::obs::CObservation::Ptr& o, std::size_t index, std::deque<LogEvent>& out);
 
