@@ -5,7 +5,8 @@
 #   bench/robustness.sh [DATASETS_DIR]      (default: ../shared/datasets next to the repository)
 #
 # Environment: SEEDS (default "1 2 3"), ICP=0 to skip the ICP peer (it runs on level a, first seed, of every
-# fault: it is 20-40x slower), FAULTS to run a subset (names below).
+# fault: it is 20-40x slower), ICP=reuse to keep the peer's results from the previous run in build/ and run only
+# those missing (the peer and the injected logs do not change with pmslam), FAULTS to run a subset (names below).
 # Writes bench/results/robustness.md (table) and bench/results/robustness.png (error / clean error per fault);
 # raw runs in build/robustness-runs/. Exit status: 0 done, 1 a run failed (results still written), 2 bad input.
 set -euo pipefail
@@ -48,7 +49,13 @@ fi
 note "building Release in $build"
 cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target pm-slam-app pm-fault-inject pm-icp-slam pm-slam-eval >/dev/null
+kept="$build/robustness-icp-kept"; rm -rf "$kept"
+if [ "$run_icp" = reuse ] && [ -d "$work" ]; then
+  (cd "$work" && find . -path '*/icp/row' | while read -r f; do mkdir -p "$kept/$(dirname "$f")" && cp -p "$f" "$kept/$f"; done) \
+    || die "cannot keep the ICP results"
+fi
 rm -rf "$work"; mkdir -p "$work" "$results"
+[ -d "$kept" ] && { cp -a "$kept/." "$work/"; rm -rf "$kept"; }
 # The configuration as it is now: edits made while the benchmark runs do not mix into it.
 config="$work/default.ini"
 cp "$repo/config/default.ini" "$config"
@@ -80,6 +87,9 @@ run() {
   echo "$(json_num trans_mean_m "$out/eval.json") $(json_num rot_mean_deg "$out/eval.json") $(mean_ms "$out/timing.txt" $col) $mf" >"$out/row"
 }
 
+# icp_needed DIR: the ICP peer is to run into DIR (not with ICP=0, nor with ICP=reuse when DIR has its row)
+icp_needed() { [ "$run_icp" != 0 ] && ! { [ "$run_icp" = reuse ] && [ -s "$1/row" ]; }; }
+
 present=()
 for d in "${names[@]}"; do
   [ -f "$datasets/$d/$d.clf" ] && [ -f "$datasets/$d/$d.relations" ] && present+=("$d") || note "$d missing: skipped"
@@ -89,7 +99,7 @@ done
 for d in "${present[@]}"; do
   note "$d: clean"
   run pmslam "$datasets/$d/$d.clf" "$work/$d/clean/pmslam" "$d"
-  [ "$run_icp" = 0 ] || run icp "$datasets/$d/$d.clf" "$work/$d/clean/icp" "$d"
+  icp_needed "$work/$d/clean/icp" && run icp "$datasets/$d/$d.clf" "$work/$d/clean/icp" "$d"
   for f in "${faults[@]}"; do
     IFS='|' read -r name fargs _ <<<"$f"
     for s in "${seeds[@]}"; do
@@ -99,7 +109,7 @@ for d in "${present[@]}"; do
         || { note "pm-fault-inject $fargs failed"; failed=1; continue; }
       note "$d: $name seed $s"
       run pmslam "$dir/log.clf" "$dir/pmslam" "$d"
-      if [ "$run_icp" != 0 ] && [ "$s" = "${seeds[0]}" ] && [ "${name%-a}" != "$name" ]; then
+      if icp_needed "$dir/icp" && [ "$s" = "${seeds[0]}" ] && [ "${name%-a}" != "$name" ]; then
         run icp "$dir/log.clf" "$dir/icp" "$d"
       fi
       rm -f "$dir/log.clf"

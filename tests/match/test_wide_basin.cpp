@@ -138,11 +138,26 @@ TEST(WideBasin, FeaturelessCorridorReportsLowConfidenceAlongIt)
 	pmslam::testing::SyntheticWorld w;
 	w.segments.push_back({-50, -1.2, 90, -1.2});
 	w.segments.push_back({-50, 1.2, 90, 1.2});
+	const TPose2D truth(0.4, 0.2, mrpt::DEG2RAD(3.0)), odometry(0.5, 0.0, mrpt::DEG2RAD(9.0));
+	{
+		// By default (degenerateBelow) the position along the corridor is the prediction's: the scan
+		// has no say there, so it neither slides nor claims to know.
+		pmslam::PerfectMatchSlam held;
+		configure(held);
+		const TPose2D p = secondScanPose(w, truth, odometry, held);
+		ASSERT_TRUE(held.lastScanResult().matched);
+		EXPECT_TRUE(held.lastScanResult().degenerate);
+		EXPECT_NEAR(p.x, odometry.x, 0.005);
+		EXPECT_NEAR(p.y, truth.y, 0.02);
+		EXPECT_NEAR(angleDiff(p.phi, truth.phi), 0.0, mrpt::DEG2RAD(0.5));
+	}
+	// The match alone (the handling off): what it reports along the corridor.
 	pmslam::PerfectMatchSlam slam;
+	slam.PM_options.degenerateBelow = 0;
 	configure(slam);
-	const TPose2D truth(0.4, 0.2, mrpt::DEG2RAD(3.0));
-	const TPose2D p = secondScanPose(w, truth, TPose2D(0.5, 0.0, mrpt::DEG2RAD(9.0)), slam);
+	const TPose2D p = secondScanPose(w, truth, odometry, slam);
 	ASSERT_TRUE(slam.lastScanResult().matched);
+	EXPECT_FALSE(slam.lastScanResult().degenerate);
 	EXPECT_NEAR(p.y, truth.y, 0.02);
 	EXPECT_NEAR(angleDiff(p.phi, truth.phi), 0.0, mrpt::DEG2RAD(0.5));
 	mrpt::math::CMatrixDouble66 cov;

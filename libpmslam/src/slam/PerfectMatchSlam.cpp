@@ -360,17 +360,25 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			else if (acceptable(r.info))
 			{
 				r.pose = est;
-				if (PM_options.degenerateBelow > 0)
+				// Only odometry can say where the robot is along a direction the scan leaves open: without
+				// any, the prediction is where the robot was, and holding it there would stop a lidar
+				// alone in its tracks along a corridor.
+				if (PM_options.degenerateBelow > 0 && odomNow)
 				{
 					if (const auto weak = weakDirection(surfaceCurvature(pts.hits, est)))
 					{
 						// Match again with the position along the weak direction held at the prediction
 						// (a stiff prior there and nowhere else): across it and in heading the scan decides.
-						PerfectMatchMatcher::PosePrior pin;
-						pin.mean = r.predicted;
-						pin.information.topLeftCorner<2, 2>() = 1e6 * (*weak) * weak->transpose();
+						// Where the scan only just constrains that direction, the match has a share of the
+						// say there, so the position does not jump between match and prediction as a far
+						// feature comes and goes from one scan to the next.
+						const Eigen::Vector2d& dir = weak->direction;
 						const Eigen::Vector2d off(est.x - r.predicted.x, est.y - r.predicted.y);
-						const Eigen::Vector2d start = Eigen::Vector2d(est.x, est.y) - weak->dot(off) * (*weak);
+						const double keep = weak->matchShare * dir.dot(off);  // along dir, from the prediction
+						PerfectMatchMatcher::PosePrior pin;
+						pin.mean = mrpt::math::TPose2D(r.predicted.x + keep * dir[0], r.predicted.y + keep * dir[1], est.phi);
+						pin.information.topLeftCorner<2, 2>() = 1e6 * dir * dir.transpose();
+						const Eigen::Vector2d start = Eigen::Vector2d(est.x, est.y) - (dir.dot(off) - keep) * dir;
 						r.pose = m_matcher.alignPoints(m_grid->distanceMap(), pts.hits,
 													   mrpt::math::TPose2D(start[0], start[1], est.phi), nullptr,
 													   nullptr, &pin);
@@ -481,16 +489,19 @@ Eigen::Matrix3d PerfectMatchSlam::surfaceCurvature(const std::vector<mrpt::math:
 	return m_matcher.evaluate(m_grid->distanceMap(), hits, pose, &normals).hessian;
 }
 
-std::optional<Eigen::Vector2d> PerfectMatchSlam::weakDirection(const Eigen::Matrix3d& hessian) const
+std::optional<PerfectMatchSlam::WeakDirection> PerfectMatchSlam::weakDirection(const Eigen::Matrix3d& hessian) const
 {
 	// The information on the position at the matched heading: a plain corridor fixes the heading
-	// and the position across it, not along it.
+	// and the position across it, not along it. Below degenerateBelow x the largest the scan has no
+	// say along it; up to five times that, a share growing linearly from none to all.
 	if (!hessian.allFinite()) return std::nullopt;
 	const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(hessian.topLeftCorner<2, 2>());
 	if (eig.info() != Eigen::Success) return std::nullopt;
 	const Eigen::Vector2d lambda = eig.eigenvalues();  // ascending
-	if (!(lambda[1] > 0) || lambda[0] >= PM_options.degenerateBelow * lambda[1]) return std::nullopt;
-	return Eigen::Vector2d(eig.eigenvectors().col(0));
+	const double t = PM_options.degenerateBelow;
+	if (!(lambda[1] > 0) || lambda[0] >= 5 * t * lambda[1]) return std::nullopt;
+	const double ratio = std::max(lambda[0], 0.0) / lambda[1];
+	return WeakDirection{Eigen::Vector2d(eig.eigenvectors().col(0)), std::clamp((ratio - t) / (4 * t), 0.0, 1.0)};
 }
 
 double PerfectMatchSlam::changedFraction(const mrpt::obs::CObservation2DRangeScan& scan) const

@@ -113,8 +113,9 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * each point pulling only across its surface, SurfaceNormals.h) is below degenerateBelow times
 	 * its largest eigenvalue, the scan does not fix the position along that direction (a plain
 	 * corridor, along it) and the prediction is kept there; across it and in heading the match
-	 * decides (0 = off). */
-	double degenerateBelow = 0.0;
+	 * decides (0 = off). Up to 5 x degenerateBelow the match gets a share growing linearly from none
+	 * to all. Only with odometry: without it the prediction is where the robot was. */
+	double degenerateBelow = 0.02;
 	/** Wide basin: when the match from the prediction scores below wideSearchBelowGoodness (0 = never),
 	 * a correlative search within ±wideSearchLinear (m) and ±wideSearchAngular (rad) of the prediction
 	 * proposes other starting poses, each refined by PM; the best wins. Clean matches score 0.8–0.98,
@@ -127,13 +128,15 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * time since the last accepted match, by relocalizeSpeed (m/s) and relocalizeTurnRate (rad/s).
 	 * After a step between two scans longer than relocalizeAfterGap (s) or relocalizeAfterJump (m)
 	 * (scans missing, nothing logged) it grows by relocalizeOdometryError times the odometry's
-	 * distance and turn over that step. */
+	 * distance and turn over that step. A match still rejected then (the odometry itself was wrong
+	 * over the step: fr079's once counted a reversal as forward driving, 4.8 m off after 20 s) is
+	 * searched in the window of the time lost, which reaches relocalizeMaxLinear. */
 	double relocalizeAfterGap = 2.0;
 	double relocalizeAfterJump = 1.0;
 	double relocalizeSpeed = 0.5;
 	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);
 	double relocalizeOdometryError = 0.1;
-	double relocalizeMaxLinear = 4.0;
+	double relocalizeMaxLinear = 8.0;
 	/** New ground while lost: once no match was accepted for newGroundAfter (s) and at least
 	 * newGroundUnexplored of a scan's points lie in cells no scan has observed (at the prediction),
 	 * the robot is somewhere never mapped (after a logging gap, say): the scan is inserted at the
@@ -147,7 +150,7 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	/** Match a scan that odometry says was taken standing still when more than this fraction of its
 	 * ranges changed by over 0.1 m since the scan last matched or inserted (0 = never): the scans say
 	 * the robot moves (carried, pushed, or a logger repeating a stale odometry reading). */
-	double matchWhenScanChanged = 0.0;
+	double matchWhenScanChanged = 0.3;
 	/** Scans with fewer usable returns than this are not matched. */
 	unsigned minPoints = 20;
 	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
@@ -317,7 +320,12 @@ class PerfectMatchSlam
 	/** The curvature of the match of `hits` at `pose` with each point pulling only across its surface. */
 	Eigen::Matrix3d surfaceCurvature(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& pose) const;
 	/** The direction (unit, map frame) along which `hessian` leaves the position unconstrained, if any. */
-	std::optional<Eigen::Vector2d> weakDirection(const Eigen::Matrix3d& hessian) const;
+	struct WeakDirection
+	{
+		Eigen::Vector2d direction;	///< unit vector the scan barely constrains the position along
+		double matchShare = 0;		///< 0: the prediction decides there; towards 1: the match does
+	};
+	std::optional<WeakDirection> weakDirection(const Eigen::Matrix3d& hessian) const;
 	ScanResult m_last;
 	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
 	std::vector<float> m_referenceRanges;  // of the scan last matched or inserted (0 = invalid)
