@@ -149,6 +149,7 @@ set xlabel "area observed [m²]"
 set ylabel "map [MB]"
 set key left top
 set grid
+set fit logfile "$work/fit.log"  # not fit.log in the folder the script is run from
 f(x) = a * x
 fit f(x) "$work/campus.dat" using 1:2 via a
 plot "$work/campus.dat" using 1:2 with linespoints pt 7 title "1 km² campus after 25/50/75/100 % of its log", \
