@@ -49,13 +49,9 @@ fi
 note "building Release in $build"
 cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target pm-slam-app pm-fault-inject pm-icp-slam pm-slam-eval >/dev/null
-kept="$build/robustness-icp-kept"; rm -rf "$kept"
-if [ "$run_icp" = reuse ] && [ -d "$work" ]; then
-  (cd "$work" && find . -path '*/icp/row' | while read -r f; do mkdir -p "$kept/$(dirname "$f")" && cp -p "$f" "$kept/$f"; done) \
-    || die "cannot keep the ICP results"
-fi
-rm -rf "$work"; mkdir -p "$work" "$results"
-[ -d "$kept" ] && { cp -a "$kept/." "$work/"; rm -rf "$kept"; }
+# A fresh run folder; with ICP=reuse only the peer's rows of the previous run stay in it.
+if [ "$run_icp" = reuse ] && [ -d "$work" ]; then find "$work" -type f ! -path '*/icp/row' -delete; else rm -rf "$work"; fi
+mkdir -p "$work" "$results"
 # The configuration as it is now: edits made while the benchmark runs do not mix into it.
 config="$work/default.ini"
 cp "$repo/config/default.ini" "$config"
