@@ -29,5 +29,4 @@ bool LogReader::deliver(std::deque<LogEvent>& queue, LogEvent& ev)
 	return true;
 }
 
-
 }  // namespace pmslam

@@ -498,10 +498,11 @@ std::optional<PerfectMatchSlam::WeakDirection> PerfectMatchSlam::weakDirection(c
 	const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(hessian.topLeftCorner<2, 2>());
 	if (eig.info() != Eigen::Success) return std::nullopt;
 	const Eigen::Vector2d lambda = eig.eigenvalues();  // ascending
+	constexpr double kAllAt = 5;  // x degenerateBelow: from there on the match alone decides
 	const double t = PM_options.degenerateBelow;
-	if (!(lambda[1] > 0) || lambda[0] >= 5 * t * lambda[1]) return std::nullopt;
+	if (!(lambda[1] > 0) || lambda[0] >= kAllAt * t * lambda[1]) return std::nullopt;
 	const double ratio = std::max(lambda[0], 0.0) / lambda[1];
-	return WeakDirection{Eigen::Vector2d(eig.eigenvectors().col(0)), std::clamp((ratio - t) / (4 * t), 0.0, 1.0)};
+	return WeakDirection{Eigen::Vector2d(eig.eigenvectors().col(0)), std::clamp((ratio - t) / ((kAllAt - 1) * t), 0.0, 1.0)};
 }
 
 double PerfectMatchSlam::changedFraction(const mrpt::obs::CObservation2DRangeScan& scan) const
