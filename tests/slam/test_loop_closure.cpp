@@ -134,9 +134,9 @@ TEST(LoopClosure, RingDrivenTwiceCloses)
 	const RingRun without = drive(world, truth, false, byDefault);
 	const LoopError ew = loopError(with.final, truth, lap), eo = loopError(without.final, truth, lap);
 	std::printf("loop relations: with loop closure mean %.3f max %.3f m (online %.3f), without mean %.3f max %.3f m; "
-				"closures %zu, loop edges %zu, optimisations %zu, rebuilds %zu\n",
+				"closures %zu, loop edges %zu, revisit edges %zu, optimisations %zu, rebuilds %zu\n",
 				ew.mean, ew.max, loopError(with.online, truth, lap).mean, eo.mean, eo.max, with.stats.closures,
-				with.stats.accepted, with.stats.optimizations, with.stats.rebuilds);
+				with.stats.accepted, with.stats.revisits, with.stats.optimizations, with.stats.rebuilds);
 	// One lap with the loop just closed: the walls once each.
 	const RingRun once = drive(world, ringPath(1.1, kStep), true, byDefault);
 	const std::size_t cw = occupiedCells(*with.grid), co = occupiedCells(*without.grid), c1 = occupiedCells(*once.grid);

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
+#include <unordered_set>
 
 namespace pmslam
 {
@@ -22,7 +23,6 @@ using mrpt::math::TPose2D;
 using mrpt::poses::CPose2D;
 
 TPose2D compose(const TPose2D& a, const TPose2D& b) { return (CPose2D(a) + CPose2D(b)).asTPose(); }
-TPose2D relative(const TPose2D& a, const TPose2D& b) { return (CPose2D(b) - CPose2D(a)).asTPose(); }
 double distance(const TPose2D& a, const TPose2D& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m)
@@ -68,6 +68,8 @@ void LoopClosureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 	optimizeEvery = static_cast<unsigned>(c.read_int(s, "optimizeEvery", static_cast<int>(optimizeEvery)));
 	rebuildAbove = c.read_double(s, "rebuildAbove", rebuildAbove);
 	background = c.read_bool(s, "background", background);
+	revisitMinOverlap = c.read_double(s, "revisitMinOverlap", revisitMinOverlap);
+	revisitBelowTypical = c.read_double(s, "revisitBelowTypical", revisitBelowTypical);
 	auto need = [&](bool ok, const std::string& what) {
 		if (!ok) throw std::invalid_argument("[" + s + "] " + what);
 	};
@@ -91,6 +93,8 @@ void LoopClosureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 		 "odometrySigma*: expected > 0 (per-metre and per-radian terms >= 0)");
 	need(optimizeEvery >= 1, "optimizeEvery: expected >= 1 keyframe");
 	need(rebuildAbove >= 0, "rebuildAbove: expected >= 0 m");
+	need(revisitMinOverlap >= 0, "revisitMinOverlap: expected >= 0 (above 1: no revisit edges)");
+	need(revisitBelowTypical >= 0 && revisitBelowTypical <= 1, "revisitBelowTypical: expected 0..1 (1: any match)");
 }
 
 void LoopClosureOptions::dumpToTextStream(std::ostream& out) const
@@ -109,7 +113,8 @@ void LoopClosureOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nodometrySigmaPerMeter = " << odometrySigmaPerMeter
 		<< "\nodometrySigmaAngular_deg = " << mrpt::RAD2DEG(odometrySigmaAngular)
 		<< "\nodometrySigmaPerRadian = " << odometrySigmaPerRadian << "\noptimizeEvery = " << optimizeEvery
-		<< "\nrebuildAbove = " << rebuildAbove << "\nbackground = " << background << "\n";
+		<< "\nrebuildAbove = " << rebuildAbove << "\nbackground = " << background
+		<< "\nrevisitMinOverlap = " << revisitMinOverlap << "\nrevisitBelowTypical = " << revisitBelowTypical << "\n";
 }
 
 LoopClosure::LoopClosure(const LoopClosureOptions& options, const PerfectMatchMatcher::TConfigParams& matcher,
@@ -144,7 +149,7 @@ Eigen::Matrix3d LoopClosure::toEdgeFrame(const Eigen::Matrix3d& I, double fromPh
 }
 
 void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
-							  bool tracked)
+							  bool tracked, bool searched, double goodness)
 {
 	const std::size_t id = m_nodes.size();
 	double travel = 0;
@@ -153,7 +158,7 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 	else
 	{
 		const Node& prev = m_nodes.back();
-		const TPose2D z = relative(prev.mapPose, pose);
+		const TPose2D z = relativePose(prev.mapPose, pose);
 		travel = prev.travel + std::hypot(z.x, z.y);
 		// Across lost tracking the front-end's relative pose is odometry alone: loose.
 		Eigen::Matrix3d info = odometryInformation(z, tracked ? 1.0 : 5.0);
@@ -179,10 +184,126 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 	scan.freeEnds.shrink_to_fit();
 	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose});
 	m_published.push_back(m_graph.pose(id));
+	// Whether this keyframe's match may make a revisit edge (linkRevisit). After lost tracking, a
+	// re-localisation or the robot carried off, the front-end's placement is a hypothesis (a
+	// look-alike room, a stretch of corridor further on): its matches become loop constraints only
+	// once a detected loop confirms it, or they would outvote the detected loops that could undo a
+	// wrong one (fr079 after a 60 s gap: 1.8 m instead of 4 cm).
+	if (id > 0 && (!tracked || searched)) m_unconfirmedFrom = id;
+	// A match that explains its scan less well than this log's keyframes usually are explained is no
+	// loop constraint either (a front-end sliding along a corridor after being carried).
+	bool wellExplained = true;
+	if (std::isfinite(goodness) && tracked)
+	{
+		constexpr std::size_t kRecent = 64;
+		if (m_goodness.size() >= 16)
+		{
+			std::vector<float> g = m_goodness;
+			std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
+			wellExplained = goodness >= g[g.size() / 2] - m_opts.revisitBelowTypical;
+		}
+		if (m_goodness.size() < kRecent)
+			m_goodness.push_back(static_cast<float>(goodness));
+		else
+			m_goodness[m_goodnessNext] = static_cast<float>(goodness);
+		m_goodnessNext = (m_goodnessNext + 1) % kRecent;
+	}
+	// The front-end matched this scan against the grid whose keyframes sit at their mapPose, unless
+	// a new grid was handed over in between (then the match was against the old one).
+	std::optional<Eigen::Matrix3d> frontEnd;
+	if (id > 0 && tracked && !searched && wellExplained && !m_handedOver && m_opts.revisitMinOverlap <= 1 &&
+		hessian.allFinite())
+		frontEnd = hessian;
+	m_handedOver = false;
 	if (m_opts.background)
-		m_job = std::async(std::launch::async, [this, id] { return runJob(id); });
+		m_job = std::async(std::launch::async, [this, id, frontEnd] { return runJob(id, frontEnd); });
 	else
-		m_inlineResult = runJob(id);
+		m_inlineResult = runJob(id, frontEnd);
+}
+
+void LoopClosure::linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian)
+{
+	// The front-end matched this keyframe against the whole map, earlier visits of the place
+	// included: that match is a loop constraint too. Unless the graph has it, an optimisation (for
+	// a loop elsewhere) bends the stretch between the visits freely and tears apart two visits the
+	// front-end had aligned (intel: 15 cm between passes of one corridor 25 min apart). The edge
+	// goes to the earlier keyframe that sees most of what this one sees.
+	if (m_unconfirmedFrom != SIZE_MAX) return;
+	const Node& n = m_nodes[node];
+	constexpr double kCell = 0.1, kRadius = 3.0;
+	// The graph and the map the front-end matched agree to a cell once the rebuilt map is handed over.
+	constexpr double kAgreeLinear = 0.05, kAgreeAngular = 1.0 * M_PI / 180;
+	constexpr std::size_t kCandidates = 4;
+	std::vector<std::pair<double, std::size_t>> near;
+	for (std::size_t i = 0; i < node && n.travel - m_nodes[i].travel >= m_opts.minTravel; ++i)
+	{
+		const double d = distance(m_nodes[i].mapPose, n.mapPose);
+		if (d <= kRadius) near.emplace_back(d, i);
+	}
+	if (near.empty()) return;
+	std::sort(near.begin(), near.end());
+	if (near.size() > kCandidates) near.resize(kCandidates);
+	const auto key = [](double x, double y) {
+		return (static_cast<std::int64_t>(std::floor(x / kCell)) << 32) ^
+			   static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(y / kCell)));
+	};
+	std::vector<std::pair<double, double>> mine;
+	const CPose2D pn(n.mapPose);
+	for (const auto& h : n.scan->hits)
+	{
+		double gx, gy;
+		pn.composePoint(h.x, h.y, gx, gy);
+		mine.emplace_back(gx, gy);
+	}
+	if (mine.empty()) return;
+	double bestOverlap = 0;
+	std::size_t best = SIZE_MAX;
+	std::unordered_set<std::int64_t> cells;
+	for (const auto& [d, c] : near)
+	{
+		cells.clear();
+		const CPose2D pc(m_nodes[c].mapPose);
+		for (const auto& h : m_nodes[c].scan->hits)
+		{
+			double gx, gy;
+			pc.composePoint(h.x, h.y, gx, gy);
+			cells.insert(key(gx, gy));
+		}
+		std::size_t seen = 0;
+		for (const auto& [gx, gy] : mine)
+		{
+			bool hit = false;
+			for (int dx = -1; dx <= 1 && !hit; ++dx)
+				for (int dy = -1; dy <= 1 && !hit; ++dy) hit = cells.count(key(gx + dx * kCell, gy + dy * kCell)) > 0;
+			seen += hit;
+		}
+		const double overlap = static_cast<double>(seen) / static_cast<double>(mine.size());
+		if (overlap > bestOverlap) bestOverlap = overlap, best = c;
+	}
+	if (best == SIZE_MAX || bestOverlap < m_opts.revisitMinOverlap) return;
+	const TPose2D& xc = m_nodes[best].mapPose;
+	const TPose2D z = relativePose(xc, n.mapPose);
+	// Only where the back-end itself verified that this stretch and that visit are aligned: a
+	// detected loop of the last agreeWindow metres between them (a front-end back at a place after
+	// a loop's drift matches its own recent scans, and along a corridor still overlaps the earlier
+	// visit's walls), and the graph, optimised with it, agrees with the front-end's relative pose
+	// (not yet, until the map rebuilt at the corrected poses is handed over).
+	bool verified = false;
+	for (auto m = m_matches.rbegin(); m != m_matches.rend() && !verified; ++m)  // newest first
+	{
+		if (n.travel - m_nodes[m->to].travel > m_opts.agreeWindow) break;
+		verified = m->accepted && std::abs(m_nodes[m->from].travel - m_nodes[best].travel) <= m_opts.localMapExtent;
+	}
+	if (!verified) return;
+	const TPose2D viaGraph = relativePose(m_graph.pose(best), m_graph.pose(node));
+	const TPose2D d = relativePose(viaGraph, z);
+	if (std::hypot(d.x, d.y) > kAgreeLinear || std::abs(d.phi) > kAgreeAngular) return;
+	// One match supports two edges (to the previous keyframe and to the earlier visit): half each.
+	const Eigen::Matrix3d info = toEdgeFrame(hessian / (2 * m_opts.informationScale), xc.phi) + kLoopFloor;
+	m_graph.addEdge(best, node, z, toMrpt(info), PoseGraphEdgeKind::Loop);
+	m_isRevisit.resize(m_graph.edges().size(), false);
+	m_isRevisit.back() = true;
+	++m_stats.revisits;
 }
 
 std::optional<LoopClosure::Update> LoopClosure::sync()
@@ -208,7 +329,7 @@ void LoopClosure::publish()
 	for (std::size_t i = 0; i < m_nodes.size(); ++i) m_published[i] = m_graph.pose(i);
 	m_links.clear();
 	for (const auto& e : m_graph.edges())
-		if (e.kind == PoseGraphEdgeKind::Loop && !e.rejected)
+		if (e.kind == PoseGraphEdgeKind::Loop && !e.rejected && !isRevisit(&e - m_graph.edges().data()))
 		{
 			const TPose2D& a = m_published[e.from];
 			const TPose2D& b = m_published[e.to];
@@ -221,6 +342,7 @@ std::optional<LoopClosure::Update> LoopClosure::take(JobResult r)
 	m_stats.backendSeconds += r.seconds;
 	if (r.optimized) publish();
 	if (!r.grid) return std::nullopt;
+	m_handedOver = true;
 	return Update{std::move(r.grid), r.correction};
 }
 
@@ -232,8 +354,11 @@ std::optional<LoopClosure::Update> LoopClosure::finish()
 	JobResult r;
 	if (optimizeAndRebuild(true, r)) last = take(std::move(r));
 	m_stats.backendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	m_stats.rejected = 0;
-	for (const auto& e : m_graph.edges()) m_stats.rejected += e.kind == PoseGraphEdgeKind::Loop && e.rejected;
+	m_stats.rejected = m_stats.revisitsRejected = 0;
+	const auto& edges = m_graph.edges();
+	for (std::size_t i = 0; i < edges.size(); ++i)
+		if (edges[i].kind == PoseGraphEdgeKind::Loop && edges[i].rejected)
+			++(isRevisit(i) ? m_stats.revisitsRejected : m_stats.rejected);
 	if (!last) return u;
 	if (u) last->correction = last->correction + u->correction;  // the first, then the second
 	return last;
@@ -242,7 +367,8 @@ std::optional<LoopClosure::Update> LoopClosure::finish()
 std::size_t LoopClosure::memoryBytes() const
 {
 	std::size_t b = m_nodes.capacity() * sizeof(Node) + m_published.capacity() * sizeof(TPose2D) +
-					m_links.capacity() * sizeof(m_links[0]) + m_matches.capacity() * sizeof(Match);
+					m_links.capacity() * sizeof(m_links[0]) + m_matches.capacity() * sizeof(Match) +
+					m_isRevisit.capacity() / 8 + m_goodness.capacity() * sizeof(float);
 	for (const auto& n : m_nodes)
 		b += sizeof(ScanPoints) + (n.scan->hits.capacity() + n.scan->freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
 	for (const auto& [pose, scan] : m_fixed)
@@ -253,11 +379,12 @@ std::size_t LoopClosure::memoryBytes() const
 	return b;
 }
 
-LoopClosure::JobResult LoopClosure::runJob(std::size_t node)
+LoopClosure::JobResult LoopClosure::runJob(std::size_t node, std::optional<Eigen::Matrix3d> frontEndHessian)
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	JobResult r;
 	const std::size_t attempts = m_stats.attempts;
+	if (frontEndHessian) linkRevisit(node, *frontEndHessian);
 	detect(node);
 	++m_sinceOptimization;
 	optimizeAndRebuild(m_loopOpen, r);
@@ -330,6 +457,8 @@ void LoopClosure::detect(std::size_t node)
 			if (a.accepted) continue;
 			a.accepted = true;
 			m_graph.addEdge(a.from, a.to, a.z, toMrpt(a.information), PoseGraphEdgeKind::Loop);
+			m_isRevisit.resize(m_graph.edges().size(), false);
+			if (a.to >= m_unconfirmedFrom) m_unconfirmedFrom = SIZE_MAX;
 			++m_stats.accepted;
 			++m_pendingLoops;
 		}
@@ -406,7 +535,7 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	m.from = candidate;
 	m.to = node;
 	const TPose2D xc = m_graph.pose(candidate);
-	m.z = relative(xc, best.pose);
+	m.z = relativePose(xc, best.pose);
 	m.information = toEdgeFrame(best.info.hessian / m_opts.informationScale, xc.phi) + kLoopFloor;
 	return m;
 }
@@ -415,9 +544,9 @@ bool LoopClosure::agree(const Match& a, const Match& b) const
 {
 	// The relative pose between the two matched keyframes, as the graph has it and as the two
 	// loops put them: a wrong loop disagrees with a right one (and with another wrong one).
-	const TPose2D viaGraph = relative(m_graph.pose(a.to), m_graph.pose(b.to));
-	const TPose2D viaLoops = relative(compose(m_graph.pose(a.from), a.z), compose(m_graph.pose(b.from), b.z));
-	const TPose2D d = relative(viaGraph, viaLoops);
+	const TPose2D viaGraph = relativePose(m_graph.pose(a.to), m_graph.pose(b.to));
+	const TPose2D viaLoops = relativePose(compose(m_graph.pose(a.from), a.z), compose(m_graph.pose(b.from), b.z));
+	const TPose2D d = relativePose(viaGraph, viaLoops);
 	return std::hypot(d.x, d.y) <= m_opts.agreeLinear && std::abs(d.phi) <= m_opts.agreeAngular;
 }
 

@@ -30,16 +30,9 @@ bool finite(const TPose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) 
 
 std::string idText(PoseGraph::NodeId id) { return std::to_string(id); }
 
-// The pose of `b` in the frame of `a`: a^-1 (+) b.
-TPose2D relative(const TPose2D& a, const TPose2D& b)
-{
-	const double c = std::cos(a.phi), s = std::sin(a.phi), dx = b.x - a.x, dy = b.y - a.y;
-	return {c * dx + s * dy, -s * dx + c * dy, mrpt::math::wrapToPi(b.phi - a.phi)};
-}
-
 double chi2Of(const PoseGraphEdge& e, const std::map<PoseGraph::NodeId, TPose2D>& nodes)
 {
-	const TPose2D pred = relative(nodes.at(e.from), nodes.at(e.to));
+	const TPose2D pred = relativePose(nodes.at(e.from), nodes.at(e.to));
 	const double r[3] = {pred.x - e.z.x, pred.y - e.z.y, mrpt::math::wrapToPi(pred.phi - e.z.phi)};
 	double chi2 = 0;
 	for (int i = 0; i < 3; ++i)
@@ -80,6 +73,12 @@ void checkInformation(const mrpt::math::CMatrixDouble33& I, const std::string& w
 	if (llt.info() != Eigen::Success) throw std::invalid_argument(what + ": information matrix is not positive definite");
 }
 }  // namespace
+
+TPose2D relativePose(const TPose2D& a, const TPose2D& b)
+{
+	const double c = std::cos(a.phi), s = std::sin(a.phi), dx = b.x - a.x, dy = b.y - a.y;
+	return {c * dx + s * dy, -s * dx + c * dy, mrpt::math::wrapToPi(b.phi - a.phi)};
+}
 
 void PoseGraph::addNode(NodeId id, const TPose2D& pose)
 {

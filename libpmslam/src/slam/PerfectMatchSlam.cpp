@@ -60,6 +60,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 		mrpt::DEG2RAD(c.read_double(s, "relocalizeTurnRate_deg", mrpt::RAD2DEG(relocalizeTurnRate)));
 	relocalizeMaxLinear = c.read_double(s, "relocalizeMaxLinear", relocalizeMaxLinear);
 	relocalizeOdometryError = c.read_double(s, "relocalizeOdometryError", relocalizeOdometryError);
+	relocalizeAmbiguity = c.read_double(s, "relocalizeAmbiguity", relocalizeAmbiguity);
 	newGroundUnexplored = c.read_double(s, "newGroundUnexplored", newGroundUnexplored);
 	newGroundAfter = c.read_double(s, "newGroundAfter", newGroundAfter);
 	matchAtLeastEvery = c.read_double(s, "matchAtLeastEvery", matchAtLeastEvery);
@@ -90,6 +91,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(relocalizeTurnRate >= 0 && relocalizeTurnRate <= 2 * M_PI, "relocalizeTurnRate_deg: expected 0..360 deg/s");
 	need(relocalizeMaxLinear >= 0 && relocalizeMaxLinear <= 20, "relocalizeMaxLinear: expected 0..20 m");
 	need(relocalizeOdometryError >= 0 && relocalizeOdometryError <= 1, "relocalizeOdometryError: expected 0..1");
+	need(relocalizeAmbiguity >= 0 && relocalizeAmbiguity <= 1, "relocalizeAmbiguity: expected 0..1 (0 = off)");
 	need(newGroundUnexplored >= 0 && newGroundUnexplored <= 1, "newGroundUnexplored: expected 0..1 (0 = off)");
 	need(newGroundAfter >= 0, "newGroundAfter: expected >= 0 s");
 	need(matchAtLeastEvery >= 0, "matchAtLeastEvery: expected >= 0 s (0 = off)");
@@ -134,6 +136,7 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nrelocalizeSpeed = " << relocalizeSpeed
 		<< "\nrelocalizeTurnRate_deg = " << mrpt::RAD2DEG(relocalizeTurnRate)
 		<< "\nrelocalizeMaxLinear = " << relocalizeMaxLinear << "\nrelocalizeOdometryError = " << relocalizeOdometryError
+		<< "\nrelocalizeAmbiguity = " << relocalizeAmbiguity
 		<< "\nnewGroundUnexplored = " << newGroundUnexplored << "\nnewGroundAfter = " << newGroundAfter << "\nmatchAtLeastEvery = " << matchAtLeastEvery << "\nmatchWhenScanChanged = " << matchWhenScanChanged
 		<< "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
 		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi)
@@ -187,6 +190,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_loops.reset();
 	if (LC_options.enabled) m_loops = std::make_unique<LoopClosure>(LC_options, PM_params, PM_options.grid);
 	m_trackedSinceKeyframe = true;
+	m_searchedSinceKeyframe = false;
 	m_frame = mrpt::poses::CPose2D();
 	m_frames.assign(1, m_frame);
 	m_scanFrame.clear();
@@ -387,6 +391,8 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 				}
 				r.matched = true;
 				++m_matched;
+				// Placed by a re-localisation: a hypothesis for the back-end.
+				if (r.relocalized) m_searchedSinceKeyframe = true;
 				m_lastHits = pts.hits;  // for getCurrentPoseEstimation()
 			}
 			else
@@ -444,8 +450,10 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			if (m_loops)
 			{
 				m_nodeInFirstFrame.push_back((-m_frame + mrpt::poses::CPose2D(r.pose)).asTPose());
-				m_loops->addKeyframe(r.pose, now, pts, r.info.hessian, (r.matched || m_loops->nodeCount() == 0) && m_trackedSinceKeyframe);
+				m_loops->addKeyframe(r.pose, now, pts, r.info.hessian, (r.matched || m_loops->nodeCount() == 0) && m_trackedSinceKeyframe,
+									 m_searchedSinceKeyframe, r.matched ? r.info.goodness : std::nan(""));
 				m_trackedSinceKeyframe = true;
+				m_searchedSinceKeyframe = false;
 			}
 		}
 	}
@@ -571,10 +579,16 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 	// claim: the best explanation of the scan wins.
 	const double margin = alwaysSearch ? 0.0 : 0.15;
 	double bestGoodness = std::max(r.info.goodness + margin, PM_options.wideSearchBelowGoodness);
+	// A re-localisation window (wider than the wide basin's) holds look-alike places.
+	const bool relocalizing = linWindow > PM_options.wideSearchLinear + 1e-9 || angWindow > PM_options.wideSearchAngular + 1e-9;
+	std::vector<std::pair<mrpt::math::TPose2D, double>> refined;	// every candidate, refined, and its score
+	const mrpt::math::TPose2D atPrediction = best;
+	const PerfectMatchMatcher::MatchInfo predictionInfo = r.info;
 	for (const auto& c : starts)
 	{
 		PerfectMatchMatcher::MatchInfo info;
 		const mrpt::math::TPose2D p = align(c.pose, info);
+		refined.emplace_back(p, info.goodness);
 		if (info.goodness > bestGoodness)
 		{
 			bestGoodness = info.goodness;
@@ -583,6 +597,23 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 			r.relocalized = true;
 		}
 	}
+	// In a re-localisation window, a clearly different pose that explains the scan nearly as well
+	// (a look-alike room, a repetitive corridor) leaves the pose undecided: keep searching on the
+	// next scans, from where the robot moves to somewhere that tells them apart.
+	if (r.relocalized && relocalizing && PM_options.relocalizeAmbiguity > 0)
+		for (const auto& [p, g] : refined)
+		{
+			const bool distinct = std::hypot(p.x - best.x, p.y - best.y) > 0.5 ||
+								  std::abs(mrpt::math::wrapToPi(p.phi - best.phi)) > mrpt::DEG2RAD(5.0);
+			if (distinct && g > bestGoodness - PM_options.relocalizeAmbiguity)
+			{
+				r.relocalized = false;
+				r.ambiguous = true;
+				r.info = predictionInfo;
+				best = atPrediction;
+				break;
+			}
+		}
 	if (r.relocalized) ++m_relocalizations;
 	return best;
 }

@@ -26,7 +26,15 @@
  *   agreeWindow metres (the two loops imply the same relative pose between their keyframes as
  *   the graph does). In the optimisation, loop edges failing a chi-square test are disabled
  *   (PoseGraph: a hard-redescending robust kernel, re-admitted when they fit again).
- * - Optimisation: MRPT's sparse Levenberg-Marquardt (PoseGraph), as soon as a loop is
+ * - Revisit edges: the front-end's match of a keyframe against the map is a loop constraint too
+ *   where the map holds an earlier visit. Each keyframe gets an edge to the earlier keyframe (at
+ *   least minTravel back, within 3 m) that sees revisitMinOverlap of its returns, with the
+ *   relative pose the front-end had, once a detected loop of the last agreeWindow metres has
+ *   verified that the two visits are aligned and the graph agrees; not from a match that explains
+ *   its scan poorly (revisitBelowTypical), nor after lost tracking, a re-localisation or the robot
+ *   carried off until a detected loop confirms the front-end's placement. Without them an
+ *   optimisation for a loop elsewhere bends the stretch between two visits freely.
+ * - Optimisation: Ceres' sparse Levenberg-Marquardt (PoseGraph), as soon as a loop is
  *   accepted after a stretch without one, then every optimizeEvery keyframes while loop
  *   edges keep coming. When a keyframe moved by more than rebuildAbove metres, a new grid is
  *   built from all keyframes at their optimised poses.
@@ -50,6 +58,7 @@
 #include <pmslam/sensor/ScanPoints.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstddef>
 #include <future>
 #include <memory>
@@ -96,6 +105,13 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	unsigned optimizeEvery = 10;  ///< keyframes between optimisations while loop edges keep coming
 	double rebuildAbove = 0.05;	 ///< m: a keyframe moved more than this (a cell): the map is rebuilt
 	bool background = true;	 ///< the back-end on a worker thread (false: inline, same results)
+	/** A keyframe matched by the front-end gets an edge to the earlier visit's keyframe that sees
+	 * this much of its scan (fraction of its returns within a cell of that keyframe's); > 1: none. */
+	double revisitMinOverlap = 0.5;
+	/** ...and whose match explains its scan within this of the median of the last keyframes' matches
+	 * (a front-end sliding along a corridor after being carried scores 0.74-0.87 on aces, whose
+	 * keyframes score a median 0.93: its alignment to the earlier visit is no loop constraint). */
+	double revisitBelowTypical = 0.05;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 	void dumpToTextStream(std::ostream& out) const override;
@@ -108,6 +124,8 @@ struct LoopClosureStats
 	std::size_t accepted = 0;  ///< loop edges added to the graph (agreeing matches)
 	std::size_t rejected = 0;  ///< loop edges the chi-square test disables at the end
 	std::size_t closures = 0;  ///< loops accepted after a stretch without one
+	std::size_t revisits = 0;  ///< edges from front-end matches onto an earlier visit's part of the map
+	std::size_t revisitsRejected = 0;  ///< of those, disabled by the chi-square test at the end
 	std::size_t optimizations = 0, rebuilds = 0;
 	double optimizeSeconds = 0;	 ///< of which in the optimiser
 	double backendSeconds = 0;	///< worker time: detection, optimisation, rebuilds
@@ -138,9 +156,13 @@ class LoopClosure
 
 	/** Adds the keyframe just inserted into the front-end's map at `pose` (front-end frame) and
 	 * starts the worker on it. `hessian`: the curvature of its match (map frame); `tracked`: it
-	 * was matched, and every scan since the previous keyframe was (false: odometry only). */
+	 * was matched, and every scan since the previous keyframe was (false: odometry only);
+	 * `searched`: a match since the previous keyframe was placed by a re-localisation search, or the
+	 * robot was carried off (moved while its odometry stood still). Either of those makes where the
+	 * front-end put the robot a hypothesis until a detected loop confirms it: until then its
+	 * matches make no revisit edges. `goodness`: of its match (mean PM likelihood; NaN: unknown). */
 	void addKeyframe(const mrpt::math::TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
-					 bool tracked);
+					 bool tracked, bool searched = false, double goodness = std::nan(""));
 
 	/** End of the log: waits, optimises what is pending, and returns a grid at the final poses when
 	 * they moved since the last map (nullopt: the current map already is). */
@@ -148,6 +170,9 @@ class LoopClosure
 
 	/** The graph; only while no worker runs (after finish()). */
 	const PoseGraph& graph() const { return m_graph; }
+	/** Edge `index` of graph() is a revisit edge (a front-end match onto an earlier visit's keyframe),
+	 * not a detected loop; only while no worker runs. */
+	bool isRevisit(std::size_t index) const { return index < m_isRevisit.size() && m_isRevisit[index]; }
 	std::size_t nodeCount() const { return m_nodes.size(); }
 	/** Pose of node `id` as of the last result taken (sync(), finish()): safe while the worker runs. */
 	mrpt::math::TPose2D nodePose(std::size_t id) const { return m_published.at(id); }
@@ -182,7 +207,8 @@ class LoopClosure
 		bool optimized = false;
 		double seconds = 0;
 	};
-	JobResult runJob(std::size_t node);	 // on the worker
+	JobResult runJob(std::size_t node, std::optional<Eigen::Matrix3d> frontEndHessian);	 // on the worker
+	void linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian);
 	void detect(std::size_t node);
 	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow);
 	bool agree(const Match& a, const Match& b) const;
@@ -206,6 +232,13 @@ class LoopClosure
 	std::size_t m_sinceOptimization = 0, m_pendingLoops = 0;
 	std::size_t m_checkedEdges = 0;	 // edges before this index were in an optimisation or its check
 	bool m_loopOpen = false;  // a loop was accepted and the graph not yet optimised with it
+	// First keyframe after tracking was last lost, until a detected loop confirms where the front-end
+	// put the robot since (SIZE_MAX: confirmed): no revisit edges meanwhile.
+	std::size_t m_unconfirmedFrom = SIZE_MAX;
+	std::vector<float> m_goodness;	// of the last tracked keyframes' matches (a ring)
+	std::size_t m_goodnessNext = 0;
+	bool m_handedOver = false;	// sync() just handed a new grid over: the front-end matched the old one
+	std::vector<bool> m_isRevisit;	// per edge (as far as revisit edges were added): from linkRevisit
 	std::future<JobResult> m_job;
 	std::optional<JobResult> m_inlineResult;
 	LoopClosureStats m_stats;

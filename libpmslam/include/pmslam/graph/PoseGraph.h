@@ -96,6 +96,9 @@ struct PoseGraphStats
 	std::vector<std::uint64_t> unconnectedNodes;  // not linked to the fixed node: left where they were
 };
 
+/** The pose of `b` in the frame of `a`: a^-1 (+) b, its heading wrapped to (-pi, pi]. */
+mrpt::math::TPose2D relativePose(const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b);
+
 class PoseGraph
 {
    public:

@@ -137,6 +137,10 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);
 	double relocalizeOdometryError = 0.1;
 	double relocalizeMaxLinear = 8.0;
+	/** In a re-localisation window, a pose more than 0.5 m or 5 deg from the best that scores within
+	 * this of it leaves the re-localisation undecided (a look-alike place): the search goes on at the
+	 * next scans. 0: off. */
+	double relocalizeAmbiguity = 0.05;
 	/** New ground while lost: once no match was accepted for newGroundAfter (s) and at least
 	 * newGroundUnexplored of a scan's points lie in cells no scan has observed (at the prediction),
 	 * the robot is somewhere never mapped (after a logging gap, say): the scan is inserted at the
@@ -180,6 +184,7 @@ class PerfectMatchSlam
 		bool matched = false, inserted = false;
 		bool wideSearch = false;  ///< the wide search ran for this scan
 		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
+		bool ambiguous = false;  ///< a re-localisation found two clearly different poses explaining the scan about as well: kept neither
 		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
 		bool degenerate = false;  ///< the scan left a direction unconstrained: the prediction was kept along it
 		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundUnexplored)
@@ -337,6 +342,7 @@ class PerfectMatchSlam
 	// corrections so far); the smoother and the final trajectory work in the first frame.
 	std::unique_ptr<LoopClosure> m_loops;
 	bool m_trackedSinceKeyframe = true;
+	bool m_searchedSinceKeyframe = false;  // a match since the last keyframe re-localised
 	mrpt::poses::CPose2D m_frame;
 	std::vector<mrpt::poses::CPose2D> m_frames;	 // every m_frame so far, first = identity
 	std::vector<uint32_t> m_scanFrame, m_scanAnchor;  // per scan: index into m_frames, latest keyframe
