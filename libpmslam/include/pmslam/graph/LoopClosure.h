@@ -31,8 +31,8 @@
  *   least minTravel back, within 3 m) that sees revisitMinOverlap of its returns, with the
  *   relative pose the front-end had, once a detected loop of the last agreeWindow metres has
  *   verified that the two visits are aligned and the graph agrees; not from a match that explains
- *   its scan poorly (revisitBelowTypical), nor after lost tracking, a re-localisation or the robot
- *   carried off until a detected loop confirms the front-end's placement. Without them an
+ *   its scan poorly (revisitBelowTypical), nor after lost tracking or a re-localisation until a
+ *   detected loop confirms the front-end's placement. Without them an
  *   optimisation for a loop elsewhere bends the stretch between two visits freely.
  * - Optimisation: Ceres' sparse Levenberg-Marquardt (PoseGraph), as soon as a loop is
  *   accepted after a stretch without one, then every optimizeEvery keyframes while loop
@@ -108,9 +108,9 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	/** A keyframe matched by the front-end gets an edge to the earlier visit's keyframe that sees
 	 * this much of its scan (fraction of its returns within a cell of that keyframe's); > 1: none. */
 	double revisitMinOverlap = 0.5;
-	/** ...and whose match explains its scan within this of the median of the last keyframes' matches
-	 * (a front-end sliding along a corridor after being carried scores 0.74-0.87 on aces, whose
-	 * keyframes score a median 0.93: its alignment to the earlier visit is no loop constraint). */
+	/** ...and whose match explains its scan within this of the median of the last 64 keyframes' matches
+	 * (a front-end off its track explains its scans worse: after the aces robot was carried 3 m its
+	 * matches scored 0.74-0.87 for a while; its alignment to an earlier visit is no loop constraint). */
 	double revisitBelowTypical = 0.05;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
@@ -157,10 +157,10 @@ class LoopClosure
 	/** Adds the keyframe just inserted into the front-end's map at `pose` (front-end frame) and
 	 * starts the worker on it. `hessian`: the curvature of its match (map frame); `tracked`: it
 	 * was matched, and every scan since the previous keyframe was (false: odometry only);
-	 * `searched`: a match since the previous keyframe was placed by a re-localisation search, or the
-	 * robot was carried off (moved while its odometry stood still). Either of those makes where the
-	 * front-end put the robot a hypothesis until a detected loop confirms it: until then its
-	 * matches make no revisit edges. `goodness`: of its match (mean PM likelihood; NaN: unknown). */
+	 * `searched`: a match since the previous keyframe was placed by a re-localisation search. That, or
+	 * lost tracking, makes where the front-end put the robot a hypothesis until a detected loop
+	 * confirms it: until then its matches make no revisit edges. `goodness`: of its match (mean PM
+	 * likelihood; NaN: unknown). */
 	void addKeyframe(const mrpt::math::TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
 					 bool tracked, bool searched = false, double goodness = std::nan(""));
 
