@@ -421,53 +421,25 @@ TEST(Robustness, AfterALoggingGapOnNewGroundTheMapGrowsAgain)
 	EXPECT_LT(wallMapped(gridB, 9.2, 17, 15.8, 17), 0.2);
 }
 
-namespace
-{
 // A worst seed of the fault benchmark (bench/robustness.sh) that a recovery of this round mends, on the
-// benchmark log: the fault injected as the benchmark does, mapped with the defaults.
-struct BenchmarkFault
+// benchmark log: the fault injected as the benchmark does, mapped with the defaults. After a 60 s logging
+// gap (fr079, seed 2) the search finds a place 10 m off (0.71) and another pose scoring about as well:
+// relocalizeAmbiguity leaves it undecided and the next scans find the robot; without it the
+// re-localisation goes there and nothing brings it back (1.8 m).
+TEST(Robustness, AmbiguousReLocalisationAfterAGapWaitsForTheRightPlace)
 {
-	std::string log, fault, args;
-	unsigned seed;
-	double bound;  // m: 1.5x the clean log's target (a failure is metres)
-	const char* what;
-};
-std::ostream& operator<<(std::ostream& o, const BenchmarkFault& f) { return o << f.log << "-" << f.fault << "-" << f.seed; }
-
-class BenchmarkFaults : public ::testing::TestWithParam<BenchmarkFault>
-{
-};
-}  // namespace
-
-TEST_P(BenchmarkFaults, WorstSeedStaysOnTrack)
-{
-	const BenchmarkFault& f = GetParam();
 	const fs::path datasets = PMSLAM_SOURCE_DIR "/../shared/datasets";
-	const fs::path clf = datasets / f.log / (f.log + ".clf");
+	const fs::path clf = datasets / "fr079" / "fr079.clf";
 	if (!fs::exists(clf)) GTEST_SKIP() << clf << " absent: the benchmark logs live in ../shared/datasets beside the project";
 	ScratchDir d("benchmark-fault");
 	const std::string faulted = d.path("faulted.clf");
-	const auto inject = run(quote(kInject) + " " + f.args + " --seed " + std::to_string(f.seed) + " " + quote(clf.string()) +
-							" " + quote(faulted));
+	const auto inject =
+		run(quote(kInject) + " --fault gap --count 2 --seconds 60 --seed 2 " + quote(clf.string()) + " " + quote(faulted));
 	ASSERT_EQ(inject.exitCode, 0) << inject.output;
 	const auto a = mapLog(d, faulted, "defaults");
 	EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
-	const auto rel = pmslam::loadRelations((datasets / f.log / (f.log + ".relations")).string());
+	const auto rel = pmslam::loadRelations((datasets / "fr079" / "fr079.relations").string());
 	const auto err = pmslam::evaluateRelativePoses(a.traj, rel);
-	std::cout << f << " (" << f.what << "): " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
-	EXPECT_LT(err.transMean, f.bound) << f.what;
+	std::cout << "fr079 gap-b seed 2: " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
+	EXPECT_LT(err.transMean, 0.05);	 // 1.5x the clean log's target (a failure is metres)
 }
-
-INSTANTIATE_TEST_SUITE_P(
-	Robustness, BenchmarkFaults,
-	::testing::Values(
-		// After a 60 s logging gap the search finds a place 10 m off (0.71) and another pose scoring about
-		// as well: relocalizeAmbiguity leaves it undecided and the next scans find the robot; without it
-		// the re-localisation goes there and nothing brings it back (1.8 m).
-		BenchmarkFault{"fr079", "gap-b", "--fault gap --count 2 --seconds 60", 2, 0.05, "weak re-localisation"}),
-	[](const ::testing::TestParamInfo<BenchmarkFault>& i) {
-		std::string n = i.param.log + "_" + i.param.fault + "_" + std::to_string(i.param.seed);
-		for (char& c : n)
-			if (c == '-') c = '_';
-		return n;
-	});

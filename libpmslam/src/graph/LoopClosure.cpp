@@ -231,6 +231,17 @@ void LoopClosure::linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian)
 	// goes to the earlier keyframe that sees most of what this one sees.
 	if (m_unconfirmedFrom != SIZE_MAX) return;
 	const Node& n = m_nodes[node];
+	// Only where the back-end itself verified that this stretch and that visit are aligned: a
+	// detected loop of the last agreeWindow metres between them (a front-end back at a place after
+	// a loop's drift matches its own recent scans, and along a corridor still overlaps the earlier
+	// visit's walls). Where the earlier ends of those loops are (m of path); none: nothing to link.
+	std::vector<double> verifiedAt;
+	for (auto m = m_matches.rbegin(); m != m_matches.rend(); ++m)	// newest first
+	{
+		if (n.travel - m_nodes[m->to].travel > m_opts.agreeWindow) break;
+		if (m->accepted) verifiedAt.push_back(m_nodes[m->from].travel);
+	}
+	if (verifiedAt.empty()) return;
 	constexpr double kCell = 0.1, kRadius = 3.0;
 	// The graph and the map the front-end matched agree to a cell once the rebuilt map is handed over.
 	constexpr double kAgreeLinear = 0.05, kAgreeAngular = 1.0 * M_PI / 180;
@@ -285,18 +296,12 @@ void LoopClosure::linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian)
 	if (best == SIZE_MAX || bestOverlap < m_opts.revisitMinOverlap) return;
 	const TPose2D& xc = m_nodes[best].mapPose;
 	const TPose2D z = relativePose(xc, n.mapPose);
-	// Only where the back-end itself verified that this stretch and that visit are aligned: a
-	// detected loop of the last agreeWindow metres between them (a front-end back at a place after
-	// a loop's drift matches its own recent scans, and along a corridor still overlaps the earlier
-	// visit's walls), and the graph, optimised with it, agrees with the front-end's relative pose
-	// (not yet, until the map rebuilt at the corrected poses is handed over).
-	bool verified = false;
-	for (auto m = m_matches.rbegin(); m != m_matches.rend() && !verified; ++m)  // newest first
-	{
-		if (n.travel - m_nodes[m->to].travel > m_opts.agreeWindow) break;
-		verified = m->accepted && std::abs(m_nodes[m->from].travel - m_nodes[best].travel) <= m_opts.localMapExtent;
-	}
-	if (!verified) return;
+	// The visit linked is one a recent detected loop verified, and the graph, optimised with it,
+	// agrees with the front-end's relative pose (not yet, until the map rebuilt at the corrected
+	// poses is handed over).
+	if (std::none_of(verifiedAt.begin(), verifiedAt.end(),
+					 [&](double t) { return std::abs(t - m_nodes[best].travel) <= m_opts.localMapExtent; }))
+		return;
 	const TPose2D viaGraph = relativePose(m_graph.pose(best), m_graph.pose(node));
 	const TPose2D d = relativePose(viaGraph, z);
 	if (std::hypot(d.x, d.y) > kAgreeLinear || std::abs(d.phi) > kAgreeAngular) return;
@@ -459,7 +464,6 @@ void LoopClosure::detect(std::size_t node)
 			if (a.accepted) continue;
 			a.accepted = true;
 			m_graph.addEdge(a.from, a.to, a.z, toMrpt(a.information), PoseGraphEdgeKind::Loop);
-			m_isRevisit.resize(m_graph.edges().size(), false);
 			if (a.to >= m_unconfirmedFrom) m_unconfirmedFrom = SIZE_MAX;
 			++m_stats.accepted;
 			++m_pendingLoops;

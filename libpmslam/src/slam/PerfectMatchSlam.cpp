@@ -608,7 +608,6 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 			if (distinct && g > bestGoodness - PM_options.relocalizeAmbiguity)
 			{
 				r.relocalized = false;
-				r.ambiguous = true;
 				r.info = predictionInfo;
 				best = atPrediction;
 				break;
