@@ -183,7 +183,11 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 	// Kept for the rest of the run: without the slack of the vectors they were built in.
 	scan.hits.shrink_to_fit();
 	scan.freeEnds.shrink_to_fit();
-	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose});
+	float reach = 0;
+	for (const auto* pts : {&scan.hits, &scan.freeEnds})
+		for (const auto& p : *pts) reach = std::max(reach, std::hypot(p.x, p.y));
+	reach += static_cast<float>(std::hypot(scan.sensorOrigin.x, scan.sensorOrigin.y));
+	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose, reach});
 	m_published.push_back(m_graph.pose(id));
 	// Whether this keyframe's match may make a revisit edge (linkRevisit). After lost tracking or a
 	// re-localisation the front-end's placement is a hypothesis (a look-alike room, a stretch of
@@ -348,27 +352,28 @@ std::optional<LoopClosure::Update> LoopClosure::take(JobResult r)
 {
 	m_stats.backendSeconds += r.seconds;
 	if (r.optimized) publish();
-	if (!r.grid) return std::nullopt;
+	if (!r.patch) return std::nullopt;
 	m_handedOver = true;
-	return Update{std::move(r.grid), r.correction};
+	return Update{std::move(r.patch), std::move(r.blocks), r.correction};
 }
 
-std::optional<LoopClosure::Update> LoopClosure::finish()
+std::vector<LoopClosure::Update> LoopClosure::finish()
 {
-	std::optional<Update> u = sync();
+	std::vector<Update> out;
+	if (auto u = sync()) out.push_back(std::move(*u));
 	const auto t0 = std::chrono::steady_clock::now();
-	std::optional<Update> last;
 	JobResult r;
-	if (optimizeAndRebuild(true, r)) last = take(std::move(r));
+	r.optimized = optimizeIfDue(true);
+	// Every keyframe at its final pose, however little it moved: the map written is the trajectory's.
+	patchMoved(0.0, r);
+	if (auto u = take(std::move(r))) out.push_back(std::move(*u));
 	m_stats.backendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	m_stats.rejected = m_stats.revisitsRejected = 0;
 	const auto& edges = m_graph.edges();
 	for (std::size_t i = 0; i < edges.size(); ++i)
 		if (edges[i].kind == PoseGraphEdgeKind::Loop && edges[i].rejected)
 			++(isRevisit(i) ? m_stats.revisitsRejected : m_stats.rejected);
-	if (!last) return u;
-	if (u) last->correction = last->correction + u->correction;  // the first, then the second
-	return last;
+	return out;
 }
 
 std::size_t LoopClosure::memoryBytes() const
@@ -394,7 +399,7 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node, std::optional<Eigen
 	if (frontEndHessian) linkRevisit(node, *frontEndHessian);
 	detect(node);
 	++m_sinceOptimization;
-	optimizeAndRebuild(m_loopOpen, r);
+	optimizeAndPatch(m_loopOpen, r);
 	// The local maps just verified against were thousands of small distance blocks: hand the freed
 	// pages back, or they stay resident in this thread's heap (glibc keeps them for reuse).
 	if (m_stats.attempts != attempts) malloc_trim(0);
@@ -556,11 +561,11 @@ bool LoopClosure::agree(const Match& a, const Match& b) const
 	return std::hypot(d.x, d.y) <= m_opts.agreeLinear && std::abs(d.phi) <= m_opts.agreeAngular;
 }
 
-bool LoopClosure::optimizeAndRebuild(bool force, JobResult& r)
+bool LoopClosure::optimizeAndPatch(bool force, JobResult& r)
 {
 	if (!optimizeIfDue(force)) return false;
 	r.optimized = true;
-	r.grid = rebuildIfMoved(r.correction);
+	patchMoved(m_opts.rebuildAbove, r);
 	return true;
 }
 
@@ -594,29 +599,55 @@ bool LoopClosure::optimizeIfDue(bool force)
 	return true;
 }
 
-std::shared_ptr<OccupancyDistanceGridMap> LoopClosure::rebuildIfMoved(CPose2D& correction)
+void LoopClosure::patchMoved(double above, JobResult& r)
 {
-	// How far any scan moved: its origin, plus its heading change at a 5 m lever arm.
-	double moved = 0;
+	// The keyframes that moved: their scan's origin, plus its heading change at a 5 m lever arm.
+	std::vector<bool> moved(m_nodes.size(), false);
+	std::size_t count = 0;
 	for (std::size_t i = 0; i < m_nodes.size(); ++i)
 	{
 		const TPose2D& p = m_graph.pose(i);
 		const TPose2D& q = m_nodes[i].mapPose;
-		moved = std::max(moved, distance(p, q) + 5.0 * std::abs(mrpt::math::wrapToPi(p.phi - q.phi)));
+		moved[i] = distance(p, q) + 5.0 * std::abs(mrpt::math::wrapToPi(p.phi - q.phi)) > above;
+		count += moved[i];
 	}
-	if (moved <= m_opts.rebuildAbove) return nullptr;
-	auto grid = std::make_shared<OccupancyDistanceGridMap>(m_gridOpts);
-	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
-	scans.reserve(m_fixed.size() + m_nodes.size());
-	for (const auto& [pose, scan] : m_fixed) scans.emplace_back(pose, &scan);
-	for (std::size_t i = 0; i < m_nodes.size(); ++i) scans.emplace_back(m_graph.pose(i), m_nodes[i].scan.get());
-	grid->insertScans(scans);
-	// The front-end moves with the newest keyframe.
+	if (count == 0) return;
+	// The blocks whose cells change: those the moved scans touch where they are in the map and
+	// where they go.
+	auto patch = std::make_shared<OccupancyDistanceGridMap>(m_gridOpts);
+	auto blocks = std::make_shared<BlockMask>();
+	for (std::size_t i = 0; i < m_nodes.size(); ++i)
+		if (moved[i])
+		{
+			patch->addBlocksTouched(*m_nodes[i].scan, m_nodes[i].mapPose, *blocks);
+			patch->addBlocksTouched(*m_nodes[i].scan, m_graph.pose(i), *blocks);
+		}
+	blocks->freeze();
+	// Rebuilt from every scan that reaches them, in the order the map got them, each at the pose
+	// it will have in the map: those cells then hold what a map rebuilt from all keyframes would.
+	const double res = m_gridOpts.resolution;
+	const auto reaches = [&](const TPose2D& p, double reach) {
+		using Blocks = SparseOccupancyGrid::Blocks;
+		const auto block = [&](double v) { return Blocks::blockOf(static_cast<int>(std::floor(v / res))); };
+		reach += 2 * res;  // the cell of a point on the box's edge
+		return blocks->meets(block(p.x - reach), block(p.y - reach), block(p.x + reach), block(p.y + reach));
+	};
+	for (const auto& [pose, scan] : m_fixed) patch->insertScanWithin(scan, pose, *blocks);
+	for (std::size_t i = 0; i < m_nodes.size(); ++i)
+	{
+		const TPose2D& p = moved[i] ? m_graph.pose(i) : m_nodes[i].mapPose;
+		if (reaches(p, m_nodes[i].reach)) patch->insertScanWithin(*m_nodes[i].scan, p, *blocks);
+	}
+	// The front-end moves with the newest keyframe, if that moved.
 	const Node& last = m_nodes.back();
-	correction = CPose2D(m_graph.pose(m_nodes.size() - 1)) + (-CPose2D(last.mapPose));
-	for (std::size_t i = 0; i < m_nodes.size(); ++i) m_nodes[i].mapPose = m_graph.pose(i);
-	++m_stats.rebuilds;
-	return grid;
+	r.correction = moved.back() ? CPose2D(m_graph.pose(m_nodes.size() - 1)) + (-CPose2D(last.mapPose)) : CPose2D();
+	for (std::size_t i = 0; i < m_nodes.size(); ++i)
+		if (moved[i]) m_nodes[i].mapPose = m_graph.pose(i);
+	++m_stats.mapUpdates;
+	m_stats.reinserted += count;
+	m_stats.blocksReplaced += blocks->count();
+	r.patch = std::move(patch);
+	r.blocks = std::move(blocks);
 }
 
 }  // namespace pmslam

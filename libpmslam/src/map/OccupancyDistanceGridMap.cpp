@@ -3,6 +3,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
+#include <pmslam/map/GridLine.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
 
 #include <algorithm>
@@ -167,44 +168,39 @@ void OccupancyDistanceGridMap::applyUpdate(int cx, int cy, SparseOccupancyGrid::
 		m_distance.removeObstacle(cx, cy);
 }
 
-std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose)
+void OccupancyDistanceGridMap::checkScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose) const
 {
-	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
-	auto toWorld = [&](double x, double y) { return std::pair<double, double>(pose.x + c * x - s * y, pose.y + s * x + c * y); };
-	const auto [ox, oy] = toWorld(scan.sensorOrigin.x, scan.sensorOrigin.y);
 	// Every point checked before any cell changes: a bad scan leaves the map as it was.
 	// Beyond ±10^7 cells (500 km at 5 cm) a coordinate is garbage, not a map.
+	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
 	const double limit = 1e7 * m_opts.resolution;
-	auto valid = [limit](double wx, double wy) { return std::abs(wx) < limit && std::abs(wy) < limit; };
-	bool ok = valid(ox, oy);
+	auto valid = [&](double x, double y) {
+		const double wx = pose.x + c * x - s * y, wy = pose.y + s * x + c * y;
+		return std::abs(wx) < limit && std::abs(wy) < limit;
+	};
+	bool ok = valid(scan.sensorOrigin.x, scan.sensorOrigin.y);
 	for (const auto* pts : {&scan.hits, &scan.freeEnds})
-		for (const auto& p : *pts)
-		{
-			const auto [wx, wy] = toWorld(p.x, p.y);
-			ok = ok && valid(wx, wy);
-		}
+		for (const auto& p : *pts) ok = ok && valid(p.x, p.y);
 	if (!ok) throw std::invalid_argument("OccupancyDistanceGridMap::insertScan: non-finite or absurd pose or point");
+}
+
+template <class Touch, class Line>
+void OccupancyDistanceGridMap::rasterize(const ScanPoints& scan, const mrpt::math::TPose2D& pose, Touch&& touch,
+										 Line&& line) const
+{
+	// The cell updates of one scan, in order: touch(cx, cy, delta) for a cell, line(x, y, ex, ey, delta)
+	// for the cells of a Bresenham line (the end excluded). The callers visit each cell once per scan.
+	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
+	auto toWorld = [&](double x, double y) { return std::pair<double, double>(pose.x + c * x - s * y, pose.y + s * x + c * y); };
 	auto cellIndex = [&](double wx, double wy) {
 		return std::pair<int, int>(m_distance.worldToCell(wx), m_distance.worldToCell(wy));
 	};
-
-	m_cells.beginPass();
-	m_flips = 0;
+	const auto [ox, oy] = toWorld(scan.sensorOrigin.x, scan.sensorOrigin.y);
 	const std::pair<int, int> sensorCell = cellIndex(ox, oy);
 	const int sx = sensorCell.first, sy = sensorCell.second;  // plain ints: lambdas below capture them
 	auto cellOf = [&](const mrpt::math::TPoint2Df& p) {
 		const auto [wx, wy] = toWorld(p.x, p.y);
 		return cellIndex(wx, wy);
-	};
-	// Each cell is updated at most once per scan.
-	auto touch = [&](int x, int y, int delta) {
-		if (SparseOccupancyGrid::Cell* cell = m_cells.visitOnce(x, y)) applyUpdate(x, y, *cell, delta);
-	};
-	// Visits the cells of the Bresenham line from (x, y) to (ex, ey), the end excluded.
-	auto line = [&](int x, int y, int ex, int ey, int delta) {
-		m_cells.visitLineOnce(x, y, ex, ey, [&](int cx, int cy, SparseOccupancyGrid::Cell& cell) {
-			applyUpdate(cx, cy, cell, delta);
-		});
 	};
 	// No planar lidar sees a kilometre: a longer beam is a damaged reading, and would cost a
 	// cell visit and a block per 5 cm / 1.6 m of it.
@@ -255,10 +251,93 @@ std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const m
 		if (!tooFar(p)) carveTo(p, margin);
 	for (const auto& p : scan.freeEnds)
 		if (!tooFar(p)) carveTo(p, 0.0);
+}
+
+template <class Keep>
+std::size_t OccupancyDistanceGridMap::insertKept(const ScanPoints& scan, const mrpt::math::TPose2D& pose, Keep&& keep)
+{
+	checkScan(scan, pose);
+	m_cells.beginPass();
+	m_flips = 0;
+	using Blocks = SparseOccupancyGrid::Blocks;
+	// Each cell is updated at most once per scan.
+	rasterize(
+		scan, pose,
+		[&](int x, int y, int delta) {
+			if (!keep(Blocks::blockOf(x), Blocks::blockOf(y))) return;
+			if (SparseOccupancyGrid::Cell* cell = m_cells.visitOnce(x, y)) applyUpdate(x, y, *cell, delta);
+		},
+		[&](int x, int y, int ex, int ey, int delta) {
+			m_cells.visitLineOnceWithin(x, y, ex, ey, keep, [&](int cx, int cy, SparseOccupancyGrid::Cell& cell) {
+				applyUpdate(cx, cy, cell, delta);
+			});
+		});
 	if (!m_deferDistance) m_distance.update();
 	m_is_empty = false;
 	m_viewCurrent = false;
 	return m_flips;
+}
+
+std::size_t OccupancyDistanceGridMap::insertScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose)
+{
+	return insertKept(scan, pose, [](int, int) { return true; });
+}
+
+void OccupancyDistanceGridMap::insertScanWithin(const ScanPoints& scan, const mrpt::math::TPose2D& pose,
+												const BlockMask& only)
+{
+	m_deferDistance = true;
+	insertKept(scan, pose, [&only](int bx, int by) { return only.contains(bx, by); });
+	m_deferDistance = false;
+}
+
+void OccupancyDistanceGridMap::addBlocksTouched(const ScanPoints& scan, const mrpt::math::TPose2D& pose,
+												BlockMask& blocks) const
+{
+	checkScan(scan, pose);
+	using Blocks = SparseOccupancyGrid::Blocks;
+	rasterize(
+		scan, pose, [&](int x, int y, int) { blocks.add(Blocks::blockOf(x), Blocks::blockOf(y)); },
+		[&](int x, int y, int ex, int ey, int) {
+			forEachCellOnLine(x, y, ex, ey, [&](int cx, int cy) {
+				blocks.add(Blocks::blockOf(cx), Blocks::blockOf(cy));  // BlockMask skips the repeats
+				return true;
+			});
+		});
+}
+
+std::size_t OccupancyDistanceGridMap::replaceBlocks(const OccupancyDistanceGridMap& patch, const BlockMask& blocks)
+{
+	// Only the cells whose occupied state flips reach the distance layer, which re-propagates
+	// around them alone (the dynamic brushfire), as after a scan.
+	if (patch.m_opts.resolution != m_opts.resolution)
+		throw std::invalid_argument("OccupancyDistanceGridMap::replaceBlocks: the patch has another resolution");
+	using Blocks = SparseOccupancyGrid::Blocks;
+	constexpr int S = Blocks::kSide;
+	std::size_t flips = 0;
+	blocks.forEach([&](int bx, int by) {
+		const SparseOccupancyGrid::Cell* from = patch.m_cells.blockCells(bx, by);
+		const SparseOccupancyGrid::Cell* now = m_cells.blockCells(bx, by);
+		if (!from && !now) return;
+		SparseOccupancyGrid::Cell* to = m_cells.obtainBlockCells(bx, by);
+		for (int i = 0; i < S * S; ++i)
+		{
+			const SparseOccupancyGrid::Cell v = from ? from[i] : SparseOccupancyGrid::Cell(0);
+			if (v == to[i]) continue;
+			const bool was = to[i] < 0, is = v < 0;
+			to[i] = v;
+			if (was == is) continue;
+			++flips;
+			const int cx = bx * S + (i & (S - 1)), cy = by * S + (i >> Blocks::kShift);
+			if (is)
+				m_distance.addObstacle(cx, cy);
+			else
+				m_distance.removeObstacle(cx, cy);
+		}
+	});
+	m_distance.update();
+	m_viewCurrent = false;
+	return flips;
 }
 
 bool OccupancyDistanceGridMap::internal_insertObservation(const mrpt::obs::CObservation& obs,

@@ -77,6 +77,17 @@ std::size_t SparseOccupancyGrid::observedCells() const
 	return n;
 }
 
+const SparseOccupancyGrid::Cell* SparseOccupancyGrid::blockCells(int bx, int by) const
+{
+	const SparseOccupancyBlock* b = m_blocks.find(bx, by);
+	return b ? b->cells : nullptr;
+}
+
+SparseOccupancyGrid::Cell* SparseOccupancyGrid::obtainBlockCells(int bx, int by)
+{
+	return blockFor(bx * Blocks::kSide, by * Blocks::kSide).cells;
+}
+
 std::size_t SparseOccupancyGrid::blockCount() const { return m_blocks.count(); }
 std::size_t SparseOccupancyGrid::memoryBytes() const { return m_blocks.memoryBytes(); }
 

@@ -11,6 +11,7 @@
 #include <pmslam/match/CorrelativeSearch.h>
 #include <pmslam/sensor/SurfaceNormals.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
+#include <malloc.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
@@ -631,7 +632,7 @@ std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> PerfectMatchSlam::takeS
 
 void PerfectMatchSlam::applyMapCorrection(LoopClosure::Update& u, ScanResult& r)
 {
-	// The new map is in the graph's frame; every pose the front-end holds moves with it.
+	// The map's changed blocks, at the graph's poses; every pose the front-end holds moves with it.
 	const mrpt::poses::CPose2D& T = u.correction;
 	const auto move = [&](mrpt::math::TPose2D& p) { p = (T + mrpt::poses::CPose2D(p)).asTPose(); };
 	move(r.pose);
@@ -641,9 +642,10 @@ void PerfectMatchSlam::applyMapCorrection(LoopClosure::Update& u, ScanResult& r)
 	move(m_lastMapPose);
 	m_frame = T + m_frame;
 	m_frames.push_back(m_frame);
-	m_grid = std::move(u.grid);
-	m_metricMap.maps.clear();
-	m_metricMap.maps.push_back(m_grid);
+	m_grid->replaceBlocks(*u.patch, *u.blocks);
+	u.patch.reset();
+	u.blocks.reset();
+	malloc_trim(0);  // the patch's blocks came from the worker's heap: give its pages back
 	r.mapCorrected = true;
 }
 
@@ -651,10 +653,10 @@ void PerfectMatchSlam::finishLoopClosure()
 {
 	std::lock_guard<std::mutex> lock(mapMutex());
 	if (!m_loops) return;
-	if (auto u = m_loops->finish())
+	for (auto& u : m_loops->finish())
 	{
 		ScanResult scratch;
-		applyMapCorrection(*u, scratch);
+		applyMapCorrection(u, scratch);
 	}
 	if (PM_options.keepSimpleMap && m_keyframes.size() == m_loops->nodeCount())
 		for (std::size_t i = 0; i < m_keyframes.size(); ++i) m_keyframes.setPose(i, m_loops->nodePose(i));

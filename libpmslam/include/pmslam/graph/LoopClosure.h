@@ -36,15 +36,20 @@
  *   optimisation for a loop elsewhere bends the stretch between two visits freely.
  * - Optimisation: Ceres' sparse Levenberg-Marquardt (PoseGraph), as soon as a loop is
  *   accepted after a stretch without one, then every optimizeEvery keyframes while loop
- *   edges keep coming. When a keyframe moved by more than rebuildAbove metres, a new grid is
- *   built from all keyframes at their optimised poses.
+ *   edges keep coming.
+ * - The map follows the graph, in part: the keyframes that moved by more than rebuildAbove
+ *   metres are re-inserted at their optimised poses. The blocks their scans touch (where they
+ *   were and where they go) are rebuilt on the worker from every keyframe that reaches them, in
+ *   order; the front-end's map takes those blocks, and its distance layer re-propagates around
+ *   the cells that flipped (OccupancyDistanceGridMap::replaceBlocks). The rest of the map, and
+ *   of its distance layer, is not touched.
  * - Online: all of that runs on a worker thread, launched at one keyframe and joined at the
  *   next (the front-end keeps matching meanwhile against the map it has). Its result is used
  *   at a fixed point of the scan stream, so a run is repeatable whatever the timing.
  *
  * Frames: poses of the robot base in the map frame (m, rad); the first node is fixed. The
- * front-end's frame follows the graph: when a new map is handed over, the front-end moves by
- * the rigid correction that puts the newest keyframe where the graph has it.
+ * front-end's frame follows the graph: when the newest keyframe is re-inserted, the front-end
+ * moves by the rigid correction that puts it where the graph has it.
  */
 #pragma once
 
@@ -53,6 +58,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/graph/PoseGraph.h>
+#include <pmslam/map/BlockMask.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
 #include <pmslam/match/PerfectMatchMatcher.h>
 #include <pmslam/sensor/ScanPoints.h>
@@ -103,7 +109,7 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	double odometrySigmaLinear = 0.02, odometrySigmaPerMeter = 0.05;  ///< floor of consecutive edges (m, m/m)
 	double odometrySigmaAngular = 1.0 * M_PI / 180, odometrySigmaPerRadian = 0.05;	///< (rad, rad/rad)
 	unsigned optimizeEvery = 10;  ///< keyframes between optimisations while loop edges keep coming
-	double rebuildAbove = 0.05;	 ///< m: a keyframe moved more than this (a cell): the map is rebuilt
+	double rebuildAbove = 0.05;	 ///< m: a keyframe moved more than this (a cell) is re-inserted into the map
 	bool background = true;	 ///< the back-end on a worker thread (false: inline, same results)
 	/** A keyframe matched by the front-end gets an edge to the earlier visit's keyframe that sees
 	 * this much of its scan (fraction of its returns within a cell of that keyframe's); > 1: none. */
@@ -126,9 +132,12 @@ struct LoopClosureStats
 	std::size_t closures = 0;  ///< loops accepted after a stretch without one
 	std::size_t revisits = 0;  ///< edges from front-end matches onto an earlier visit's part of the map
 	std::size_t revisitsRejected = 0;  ///< of those, disabled by the chi-square test at the end
-	std::size_t optimizations = 0, rebuilds = 0;
+	std::size_t optimizations = 0;
+	std::size_t mapUpdates = 0;	 ///< times the map followed the graph (keyframes re-inserted)
+	std::size_t reinserted = 0;	 ///< keyframes re-inserted, over all map updates
+	std::size_t blocksReplaced = 0;	 ///< map blocks (32 x 32 cells) rebuilt, over all map updates
 	double optimizeSeconds = 0;	 ///< of which in the optimiser
-	double backendSeconds = 0;	///< worker time: detection, optimisation, rebuilds
+	double backendSeconds = 0;	///< worker time: detection, optimisation, map patches
 	double waitSeconds = 0;	 ///< time the front-end waited for the worker
 };
 
@@ -144,11 +153,14 @@ class LoopClosure
 	/** A scan that is in every map built (initialize()'s prior keyframes), at a fixed pose. */
 	void addFixedScan(const mrpt::math::TPose2D& pose, ScanPoints scan);
 
-	/** What the worker handed over: a grid built at the optimised poses, and the rigid
-	 * correction that takes the front-end's frame to it (apply it to every pose the front-end holds). */
+	/** What the worker handed over: the map's blocks that changed, as a map with the moved
+	 * keyframes at their optimised poses has them (give both to the front-end's map's
+	 * replaceBlocks()), and the rigid correction that takes the front-end's frame to it (apply
+	 * it to every pose the front-end holds). */
 	struct Update
 	{
-		std::shared_ptr<OccupancyDistanceGridMap> grid;
+		std::shared_ptr<const OccupancyDistanceGridMap> patch;
+		std::shared_ptr<const BlockMask> blocks;
 		mrpt::poses::CPose2D correction;
 	};
 	/** Waits for the worker (if one runs) and takes its result. Call before addKeyframe(). */
@@ -164,9 +176,11 @@ class LoopClosure
 	void addKeyframe(const mrpt::math::TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
 					 bool tracked, bool searched = false, double goodness = std::nan(""));
 
-	/** End of the log: waits, optimises what is pending, and returns a grid at the final poses when
-	 * they moved since the last map (nullopt: the current map already is). */
-	std::optional<Update> finish();
+	/** End of the log: waits, optimises what is pending, and returns the updates to apply in order
+	 * (the worker's last, then one that puts every keyframe that moved since it was inserted at its
+	 * final pose; none when the map already has them there), so the map written agrees with the
+	 * final trajectory. */
+	std::vector<Update> finish();
 
 	/** The graph; only while no worker runs (after finish()). */
 	const PoseGraph& graph() const { return m_graph; }
@@ -182,7 +196,7 @@ class LoopClosure
 	/** Counters; complete after finish() (the worker updates them while it runs). */
 	const LoopClosureStats& stats() const { return m_stats; }
 	/** Heap bytes held: the keyframes' points, the graph, the published poses (not the worker's
-	 * transient local maps and rebuilt grid). Valid while no worker runs. */
+	 * transient local maps and map patches). Valid while no worker runs. */
 	std::size_t memoryBytes() const;
 
    private:
@@ -192,6 +206,7 @@ class LoopClosure
 		double timestamp;
 		std::shared_ptr<const ScanPoints> scan;
 		mrpt::math::TPose2D mapPose;  // where its scan is in the current grid (front-end frame)
+		float reach;  // m: the farthest cell its insertion touches from the robot's origin
 	};
 	struct Match
 	{
@@ -202,7 +217,8 @@ class LoopClosure
 	};
 	struct JobResult
 	{
-		std::shared_ptr<OccupancyDistanceGridMap> grid;
+		std::shared_ptr<const OccupancyDistanceGridMap> patch;
+		std::shared_ptr<const BlockMask> blocks;
 		mrpt::poses::CPose2D correction;
 		bool optimized = false;
 		double seconds = 0;
@@ -213,9 +229,11 @@ class LoopClosure
 	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow);
 	bool agree(const Match& a, const Match& b) const;
 	bool optimizeIfDue(bool force);
-	// optimizeIfDue(), then the map rebuilt if a keyframe moved: into r. False when nothing was optimised.
-	bool optimizeAndRebuild(bool force, JobResult& r);
-	std::shared_ptr<OccupancyDistanceGridMap> rebuildIfMoved(mrpt::poses::CPose2D& correction);
+	// optimizeIfDue(), then the map patched where keyframes moved: into r. False when nothing was optimised.
+	bool optimizeAndPatch(bool force, JobResult& r);
+	// The patch that re-inserts the keyframes that moved more than `above` (m, a heading change
+	// counted at a 5 m lever arm) since they were put into the map; none when none did.
+	void patchMoved(double above, JobResult& r);
 	Eigen::Matrix3d odometryInformation(const mrpt::math::TPose2D& z, double scale) const;
 	Eigen::Matrix3d toEdgeFrame(const Eigen::Matrix3d& mapFrameInformation, double fromPhi) const;
 	std::optional<Update> take(JobResult r);

@@ -32,6 +32,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
+#include <pmslam/map/BlockMask.h>
 #include <pmslam/map/DynamicDistanceMap.h>
 #include <pmslam/map/SparseOccupancyGrid.h>
 #include <pmslam/sensor/ScanPoints.h>
@@ -107,6 +108,18 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	 * insertScan() each, with the distance layer computed once at the end. */
 	void insertScans(const std::vector<std::pair<mrpt::math::TPose2D, const ScanPoints*>>& scans);
 
+	/** The part of a map re-inserted after some of its scans moved (the loop closure):
+	 * - addBlocksTouched(): the blocks (BlockMask coordinates) insertScan(scan, pose) would update;
+	 * - insertScanWithin(): insertScan() restricted to the blocks of `only` (frozen), which are
+	 *   the only ones allocated; builds a patch, whose distance layer is not kept;
+	 * - replaceBlocks(): this map's cells of `blocks` become the patch's, and the distance layer
+	 *   re-propagates around the cells that flipped, and only those. Returns how many flipped.
+	 * A patch built from every scan that touches `blocks`, in their insertion order, replaces
+	 * exactly the cells a map rebuilt from all its scans would have there. */
+	void addBlocksTouched(const ScanPoints& scan, const mrpt::math::TPose2D& pose, BlockMask& blocks) const;
+	void insertScanWithin(const ScanPoints& scan, const mrpt::math::TPose2D& pose, const BlockMask& only);
+	std::size_t replaceBlocks(const OccupancyDistanceGridMap& patch, const BlockMask& blocks);
+
 	/** True when cell (global index) is an obstacle in the binarised grid. */
 	bool isOccupiedCell(int gx, int gy) const { return m_distance.isObstacle(gx, gy); }
 	/** Global cell index of world coordinate v. */
@@ -146,6 +159,14 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	}
 	// Applies one update to a cell (global index); forwards a flip to the distance map.
 	void applyUpdate(int cx, int cy, SparseOccupancyGrid::Cell& cell, int delta);
+	// Throws std::invalid_argument for a non-finite or absurd pose or point (before any cell changes).
+	void checkScan(const ScanPoints& scan, const mrpt::math::TPose2D& pose) const;
+	// The cell updates of one scan's insertion, in order (see the .cpp).
+	template <class Touch, class Line>
+	void rasterize(const ScanPoints& scan, const mrpt::math::TPose2D& pose, Touch&& touch, Line&& line) const;
+	// insertScan() for the cells of the blocks keep(bx, by) accepts.
+	template <class Keep>
+	std::size_t insertKept(const ScanPoints& scan, const mrpt::math::TPose2D& pose, Keep&& keep);
 	void shrinkBase();
 
 	TUpdateOptions m_opts;
@@ -153,8 +174,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	DynamicDistanceMap m_distance;
 	int m_hitDelta, m_missDelta, m_clamp;  // in MRPT log-odds units (free-positive)
 	std::size_t m_flips = 0;
-	bool m_deferDistance = false;
-	bool m_viewCurrent = false;  // the base holds the cells as they are (materialize() done since the last change)  // insertScans(): the distance layer is rebuilt at the end
+	bool m_deferDistance = false;  // insertScans(), insertScanWithin(): no distance updates per scan
+	bool m_viewCurrent = false;  // the base holds the cells as they are (materialize() done since the last change)
 };
 
 }  // namespace pmslam

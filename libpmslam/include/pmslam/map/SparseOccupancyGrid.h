@@ -38,7 +38,19 @@ class SparseOccupancyGrid
 	 * forEachCellOnLine gives): f(cx, cy, cell) for each cell not yet visited in this pass. The
 	 * insertion's inner loop (every cell a beam crosses), so the block is looked up once per block. */
 	template <class F>
-	void visitLineOnce(int x, int y, int ex, int ey, F&& f);
+	void visitLineOnce(int x, int y, int ex, int ey, F&& f)
+	{
+		visitLineOnceWithin(x, y, ex, ey, [](int, int) { return true; }, f);
+	}
+	/** The same for the cells whose block (bx, by) keep() accepts: the others are neither visited nor
+	 * allocated (a map re-inserted in part: GridPatch). */
+	template <class Keep, class F>
+	void visitLineOnceWithin(int x, int y, int ex, int ey, Keep&& keep, F&& f);
+
+	/** The cells of block (bx, by), row-major (kSide × kSide), or nullptr where none is allocated. */
+	const Cell* blockCells(int bx, int by) const;
+	/** The same, allocated if needed. */
+	Cell* obtainBlockCells(int bx, int by);
 
 	/** Inclusive cell bounds of the allocated blocks (false when empty). */
 	bool allocatedBounds(int& x0, int& y0, int& x1, int& y1) const;
@@ -127,20 +139,24 @@ inline SparseOccupancyGrid::Cell* SparseOccupancyGrid::visitOnce(int cx, int cy)
 	return claim(blockFor(cx, cy), Blocks::inBlock(cx, cy));
 }
 
-template <class F>
-void SparseOccupancyGrid::visitLineOnce(int x, int y, int ex, int ey, F&& f)
+template <class Keep, class F>
+void SparseOccupancyGrid::visitLineOnceWithin(int x, int y, int ex, int ey, Keep&& keep, F&& f)
 {
-	// The block is looked up only where the line crosses into another one.
+	// The block is looked up (and keep() asked) only where the line crosses into another one.
 	SparseOccupancyBlock* b = nullptr;
+	bool kept = false, first = true;
 	int bx = 0, by = 0;
 	forEachCellOnLine(x, y, ex, ey, [&](int cx, int cy) {
-		if (!b || Blocks::blockOf(cx) != bx || Blocks::blockOf(cy) != by)
+		if (first || Blocks::blockOf(cx) != bx || Blocks::blockOf(cy) != by)
 		{
-			b = &blockFor(cx, cy);
+			first = false;
 			bx = Blocks::blockOf(cx);
 			by = Blocks::blockOf(cy);
+			kept = keep(bx, by);
+			if (kept) b = &blockFor(cx, cy);
 		}
-		if (Cell* c = claim(*b, Blocks::inBlock(cx, cy))) f(cx, cy, *c);
+		if (kept)
+			if (Cell* c = claim(*b, Blocks::inBlock(cx, cy))) f(cx, cy, *c);
 		return true;
 	});
 }
