@@ -733,11 +733,11 @@ int main(int argc, char** argv)
 		{
 			const auto& ls = lc->stats();
 			std::printf("  loop closure: %zu loops closed; loop edges %zu accepted, %zu of them rejected by the chi-square "
-						"test (%zu matches verified in %zu attempts); %zu revisit edges (front-end matches onto an earlier "
+						"test (%zu matches verified in %zu attempts, %zu dropped as look-alikes of another visit); %zu revisit edges (front-end matches onto an earlier "
 						"visit), %zu of them rejected; %zu optimisations, %zu map updates (%zu keyframes re-inserted, %zu blocks "
 						"rebuilt); back-end %.2f s on its thread "
 						"(optimiser %.2f s), front-end waited %.2f s; graph: %s/graph.graph\n",
-						ls.closures, ls.accepted, ls.rejected, ls.verified, ls.attempts, ls.revisits, ls.revisitsRejected,
+						ls.closures, ls.accepted, ls.rejected, ls.verified, ls.attempts, ls.ambiguous, ls.revisits, ls.revisitsRejected,
 						ls.optimizations, ls.mapUpdates, ls.reinserted, ls.blocksReplaced, ls.backendSeconds, ls.optimizeSeconds, ls.waitSeconds,
 						args.out.c_str());
 		}

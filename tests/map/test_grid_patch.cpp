@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <set>
 #include <utility>
@@ -104,9 +105,17 @@ TEST(GridPatch, ReplacingTheMovedScansBlocksGivesTheRebuiltMap)
 	EXPECT_LT(blocks.count(), live.cells().blockCount() * 3 / 4);
 	EXPECT_GT(blocks.count(), 10u);
 
+	const std::size_t blocksBefore = live.distanceMap().allocatedBlocks();
 	const std::size_t flips = live.replaceBlocks(patch, blocks);
 	EXPECT_GT(flips, 50u);	// the moved walls did move
-	expectSameMap(live, build(c.scans, moved));
+	const OccupancyDistanceGridMap fresh = build(c.scans, moved);
+	expectSameMap(live, fresh);
+	// Storage follows: the blocks no scan reaches any more are given back (the memory of a map whose
+	// loop moved is that of the map where it now is, not of both places).
+	EXPECT_EQ(live.cells().blockCount(), fresh.cells().blockCount());
+	std::printf("distance blocks: before %zu, after %zu, built anew %zu\n", blocksBefore,
+				live.distanceMap().allocatedBlocks(), fresh.distanceMap().allocatedBlocks());
+	EXPECT_LE(live.distanceMap().allocatedBlocks(), fresh.distanceMap().allocatedBlocks());
 
 	// The map goes on as a map: a later scan changes it as it would change the rebuilt one.
 	OccupancyDistanceGridMap rebuilt = build(c.scans, moved);

@@ -68,6 +68,7 @@ void LoopClosureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 	odometrySigmaPerRadian = c.read_double(s, "odometrySigmaPerRadian", odometrySigmaPerRadian);
 	optimizeEvery = static_cast<unsigned>(c.read_int(s, "optimizeEvery", static_cast<int>(optimizeEvery)));
 	rebuildAbove = c.read_double(s, "rebuildAbove", rebuildAbove);
+	reinsertAbove = c.read_double(s, "reinsertAbove", reinsertAbove);
 	background = c.read_bool(s, "background", background);
 	revisitMinOverlap = c.read_double(s, "revisitMinOverlap", revisitMinOverlap);
 	revisitBelowTypical = c.read_double(s, "revisitBelowTypical", revisitBelowTypical);
@@ -93,7 +94,8 @@ void LoopClosureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 	need(odometrySigmaLinear > 0 && odometrySigmaPerMeter >= 0 && odometrySigmaAngular > 0 && odometrySigmaPerRadian >= 0,
 		 "odometrySigma*: expected > 0 (per-metre and per-radian terms >= 0)");
 	need(optimizeEvery >= 1, "optimizeEvery: expected >= 1 keyframe");
-	need(rebuildAbove >= 0, "rebuildAbove: expected >= 0 m");
+	need(rebuildAbove >= 0 && reinsertAbove >= 0 && reinsertAbove <= rebuildAbove,
+		 "rebuildAbove, reinsertAbove: expected 0 <= reinsertAbove <= rebuildAbove (m)");
 	need(revisitMinOverlap >= 0, "revisitMinOverlap: expected >= 0 (above 1: no revisit edges)");
 	need(revisitBelowTypical >= 0 && revisitBelowTypical <= 1, "revisitBelowTypical: expected 0..1 (1: any match)");
 }
@@ -114,7 +116,7 @@ void LoopClosureOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nodometrySigmaPerMeter = " << odometrySigmaPerMeter
 		<< "\nodometrySigmaAngular_deg = " << mrpt::RAD2DEG(odometrySigmaAngular)
 		<< "\nodometrySigmaPerRadian = " << odometrySigmaPerRadian << "\noptimizeEvery = " << optimizeEvery
-		<< "\nrebuildAbove = " << rebuildAbove << "\nbackground = " << background
+		<< "\nrebuildAbove = " << rebuildAbove << "\nreinsertAbove = " << reinsertAbove << "\nbackground = " << background
 		<< "\nrevisitMinOverlap = " << revisitMinOverlap << "\nrevisitBelowTypical = " << revisitBelowTypical << "\n";
 }
 
@@ -365,7 +367,7 @@ std::vector<LoopClosure::Update> LoopClosure::finish()
 	JobResult r;
 	r.optimized = optimizeIfDue(true);
 	// Every keyframe at its final pose, however little it moved: the map written is the trajectory's.
-	patchMoved(0.0, r);
+	patchMoved(0.0, 0.0, r);
 	if (auto u = take(std::move(r))) out.push_back(std::move(*u));
 	m_stats.backendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	m_stats.rejected = m_stats.revisitsRejected = 0;
@@ -421,24 +423,32 @@ void LoopClosure::detect(std::size_t node)
 	const auto angle = [&](double back) {
 		return std::min(m_opts.maxSearchAngle, m_opts.searchAngle + m_opts.searchAnglePerMeter * std::min(since, back));
 	};
-	// The nearest candidate, and the nearest of another visit of the same place.
-	std::size_t best[2] = {SIZE_MAX, SIZE_MAX};
-	double bestD[2] = {1e18, 1e18};
+	// The keyframes within the uncertainty come in runs, one per visit of the place (a run ends
+	// where the path leaves the window for more than localMapExtent metres): the nearest keyframe
+	// of each run is a candidate, the nearest runs first.
+	struct Candidate
+	{
+		std::size_t id;
+		double d;
+	};
+	std::vector<Candidate> runs;
+	double lastIn = -1e18;
 	for (std::size_t i = 0; i < node; ++i)
 	{
 		const double back = n.travel - m_nodes[i].travel;
 		if (back < m_opts.minTravel) break;	 // travel grows with the id
 		const double d = distance(m_graph.pose(i), x);
-		if (d > radius(back) || d >= bestD[1]) continue;
-		if (d < bestD[0])
-		{
-			if (best[0] != SIZE_MAX && std::abs(m_nodes[best[0]].travel - m_nodes[i].travel) > 2 * m_opts.localMapExtent)
-				best[1] = best[0], bestD[1] = bestD[0];
-			best[0] = i, bestD[0] = d;
-		}
-		else if (std::abs(m_nodes[best[0]].travel - m_nodes[i].travel) > 2 * m_opts.localMapExtent)
-			best[1] = i, bestD[1] = d;
+		if (d > radius(back)) continue;
+		if (runs.empty() || m_nodes[i].travel - lastIn > m_opts.localMapExtent)
+			runs.push_back({i, d});
+		else if (d < runs.back().d)
+			runs.back() = {i, d};
+		lastIn = m_nodes[i].travel;
 	}
+	std::sort(runs.begin(), runs.end(), [](const Candidate& a, const Candidate& b) { return a.d < b.d; });
+	constexpr std::size_t kVisits = 2;	// visits verified per attempt
+	std::size_t best[kVisits];
+	for (std::size_t k = 0; k < kVisits; ++k) best[k] = k < runs.size() ? runs[k].id : SIZE_MAX;
 	if (best[0] == SIZE_MAX) return;
 	m_lastAttempt = n.travel;
 	++m_stats.attempts;
@@ -448,19 +458,37 @@ void LoopClosure::detect(std::size_t node)
 									   return !m.accepted && n.travel - m_nodes[m.to].travel > m_opts.agreeWindow;
 								   }),
 					m_matches.end());
+	std::vector<Match> verified;
 	for (std::size_t c : best)
 	{
 		if (c == SIZE_MAX) continue;
 		const double back = n.travel - m_nodes[c].travel;
-		std::optional<Match> m = verify(node, c, radius(back), angle(back));
-		if (!m) continue;
+		if (std::optional<Match> m = verify(node, c, radius(back), angle(back))) verified.push_back(*m);
+	}
+	// Two visits that each explain the scan, at places further apart than the graph can be off right
+	// after a closure: a look-alike place (a corridor's pilasters a period on), whichever is right.
+	bool lookAlike = false;
+	for (std::size_t i = 0; i < verified.size(); ++i)
+		for (std::size_t j = i + 1; j < verified.size(); ++j)
+		{
+			const TPose2D d = relativePose(compose(m_graph.pose(verified[i].from), verified[i].z),
+										   compose(m_graph.pose(verified[j].from), verified[j].z));
+			lookAlike = lookAlike || std::hypot(d.x, d.y) > m_opts.searchRadius || std::abs(d.phi) > m_opts.searchAngle;
+		}
+	if (lookAlike)
+	{
+		m_stats.ambiguous += verified.size();
+		verified.clear();
+	}
+	for (const Match& m : verified)
+	{
 		++m_stats.verified;
 		// Accepted when enough recent matches agree with it (and then they are accepted too).
 		std::vector<std::size_t> agreeing;
 		for (std::size_t i = 0; i < m_matches.size(); ++i)
-			if (n.travel - m_nodes[m_matches[i].to].travel <= m_opts.agreeWindow && agree(m_matches[i], *m))
+			if (n.travel - m_nodes[m_matches[i].to].travel <= m_opts.agreeWindow && agree(m_matches[i], m))
 				agreeing.push_back(i);
-		m_matches.push_back(*m);
+		m_matches.push_back(m);
 		if (agreeing.size() + 1 < m_opts.agreeingMatches) continue;
 		agreeing.push_back(m_matches.size() - 1);
 		for (std::size_t i : agreeing)
@@ -487,17 +515,21 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 {
 	const Node& n = m_nodes[node];
 	const double centre = m_nodes[candidate].travel;
-	// The candidate's neighbourhood, none of it recent. Its distance layer reaches as far as the
-	// coarse lattice steps (coarseToFine), so that a coarse pose next to the right one still scores.
+	// The candidate's neighbourhood, none of it recent: localMapExtent metres of path on either side,
+	// or as far as the window reaches (in a wide window the right place may be that far along the
+	// visit, and with it in the map a look-alike part of the visit cannot win unseen). Its distance
+	// layer reaches as far as the coarse lattice steps (coarseToFine), so that a coarse pose next to
+	// the right one still scores.
+	const double extent = std::max(m_opts.localMapExtent, linWindow);
 	OccupancyGridUpdateOptions localOpts = m_gridOpts;
 	localOpts.maxDistance = std::max(localOpts.maxDistance, std::min(2.0, 1.5 * linWindow / 8));
 	OccupancyDistanceGridMap local(localOpts);
 	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
 	std::size_t lo = candidate;
-	while (lo > 0 && centre - m_nodes[lo - 1].travel <= m_opts.localMapExtent) --lo;
+	while (lo > 0 && centre - m_nodes[lo - 1].travel <= extent) --lo;
 	for (std::size_t i = lo; i < node; ++i)
 	{
-		if (m_nodes[i].travel - centre > m_opts.localMapExtent || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
+		if (m_nodes[i].travel - centre > extent || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
 		scans.emplace_back(m_graph.pose(i), m_nodes[i].scan.get());
 	}
 	local.insertScans(scans);
@@ -510,7 +542,9 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 		PerfectMatchMatcher::MatchInfo info;
 	};
 	std::vector<Refined> refined;
-	for (const auto& s : CorrelativeSearch::coarseToFine(dm, hits, x, linWindow, angWindow, 4))
+	// A wide window holds more look-alike peaks: more of them refined, for the ambiguity test below.
+	const std::size_t peaks = linWindow > 4.0 ? 8 : 4;
+	for (const auto& s : CorrelativeSearch::coarseToFine(dm, hits, x, linWindow, angWindow, peaks))
 	{
 		Refined r;
 		r.pose = m_matcher.alignPoints(dm, hits, s.pose, &r.info);
@@ -533,6 +567,14 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	// (a person: intel's worst true loop has 18 % of them there, most under 2 %). A look-alike place
 	// with its features elsewhere (a twin corridor, pilasters a metre off) puts 9-17 % of the scan there.
 	if (local.inFreeSpaceFraction(hits, best.pose, 0.15) > m_opts.maxInFreeSpace) return std::nullopt;
+	// Nor may what the robot saw on its last minTravel metres, moved by the same correction: a
+	// single scan can fit a look-alike place (a corridor's end seen from another corridor), the
+	// approach to it rarely does. (Those keyframes are never in a local map: they are too recent.)
+	const CPose2D correction = CPose2D(best.pose) + (-CPose2D(x));
+	for (std::size_t k = node; k-- > 0 && n.travel - m_nodes[k].travel < m_opts.minTravel;)
+		if (local.inFreeSpaceFraction(m_nodes[k].scan->hits, (correction + CPose2D(m_graph.pose(k))).asTPose(), 0.15) >
+			m_opts.maxInFreeSpace)
+			return std::nullopt;
 	// Another pose, clearly distinct, that explains the scan nearly as well: a corridor or a
 	// repetitive place, where the best score does not say which pose is right.
 	for (std::size_t i = 1; i < refined.size(); ++i)
@@ -565,7 +607,7 @@ bool LoopClosure::optimizeAndPatch(bool force, JobResult& r)
 {
 	if (!optimizeIfDue(force)) return false;
 	r.optimized = true;
-	patchMoved(m_opts.rebuildAbove, r);
+	patchMoved(m_opts.rebuildAbove, m_opts.reinsertAbove, r);
 	return true;
 }
 
@@ -599,19 +641,22 @@ bool LoopClosure::optimizeIfDue(bool force)
 	return true;
 }
 
-void LoopClosure::patchMoved(double above, JobResult& r)
+void LoopClosure::patchMoved(double trigger, double reinsert, JobResult& r)
 {
-	// The keyframes that moved: their scan's origin, plus its heading change at a 5 m lever arm.
+	// How far each keyframe moved: its scan's origin, plus its heading change at a 5 m lever arm.
 	std::vector<bool> moved(m_nodes.size(), false);
 	std::size_t count = 0;
+	double most = 0;
 	for (std::size_t i = 0; i < m_nodes.size(); ++i)
 	{
 		const TPose2D& p = m_graph.pose(i);
 		const TPose2D& q = m_nodes[i].mapPose;
-		moved[i] = distance(p, q) + 5.0 * std::abs(mrpt::math::wrapToPi(p.phi - q.phi)) > above;
+		const double d = distance(p, q) + 5.0 * std::abs(mrpt::math::wrapToPi(p.phi - q.phi));
+		most = std::max(most, d);
+		moved[i] = d > reinsert;
 		count += moved[i];
 	}
-	if (count == 0) return;
+	if (most <= trigger || count == 0) return;
 	// The blocks whose cells change: those the moved scans touch where they are in the map and
 	// where they go.
 	auto patch = std::make_shared<OccupancyDistanceGridMap>(m_gridOpts);

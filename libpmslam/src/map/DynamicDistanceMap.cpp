@@ -158,6 +158,16 @@ std::size_t DynamicDistanceMap::update()
 	return processed;
 }
 
+bool DynamicDistanceMap::releaseIfFar(int bx, int by)
+{
+	if (m_queued != 0) throw std::logic_error("DynamicDistanceMap::releaseIfFar: changes still queued");
+	const Block* b = m_blocks.find(bx, by);
+	if (!b) return false;
+	for (const Cell& c : b->cells)
+		if (!c.far()) return false;
+	return m_blocks.release(bx, by);
+}
+
 int DynamicDistanceMap::squaredDistanceCells(int cx, int cy) const
 {
 	const Ref r = ref(cx, cy);

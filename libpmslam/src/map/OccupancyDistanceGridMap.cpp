@@ -315,7 +315,14 @@ std::size_t OccupancyDistanceGridMap::replaceBlocks(const OccupancyDistanceGridM
 	using Blocks = SparseOccupancyGrid::Blocks;
 	constexpr int S = Blocks::kSide;
 	std::size_t flips = 0;
+	int row = 0;
+	bool first = true;
 	blocks.forEach([&](int bx, int by) {
+		// One row of blocks at a time: the brushfire's queue then holds a row's changes, not those
+		// of a whole loop that moved.
+		if (!first && by != row) m_distance.update();
+		first = false;
+		row = by;
 		const SparseOccupancyGrid::Cell* from = patch.m_cells.blockCells(bx, by);
 		const SparseOccupancyGrid::Cell* now = m_cells.blockCells(bx, by);
 		if (!from && !now) return;
@@ -334,8 +341,19 @@ std::size_t OccupancyDistanceGridMap::replaceBlocks(const OccupancyDistanceGridM
 			else
 				m_distance.removeObstacle(cx, cy);
 		}
+		// No scan reaches this block any more (a moved scan's old place): it is unobserved again.
+		if (!from) m_cells.releaseBlock(bx, by);
 	});
 	m_distance.update();
+	// The distance layer's blocks there, and around them as far as the truncation reaches, that no
+	// obstacle is near any more.
+	const int reach = static_cast<int>(std::ceil(m_opts.maxDistance / m_opts.resolution / S)) + 1;
+	BlockMask around;
+	blocks.forEach([&](int bx, int by) {
+		for (int dy = -reach; dy <= reach; ++dy)
+			for (int dx = -reach; dx <= reach; ++dx) around.add(bx + dx, by + dy);
+	});
+	around.forEach([&](int bx, int by) { m_distance.releaseIfFar(bx, by); });
 	m_viewCurrent = false;
 	return flips;
 }

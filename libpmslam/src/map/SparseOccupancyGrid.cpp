@@ -88,6 +88,12 @@ SparseOccupancyGrid::Cell* SparseOccupancyGrid::obtainBlockCells(int bx, int by)
 	return blockFor(bx * Blocks::kSide, by * Blocks::kSide).cells;
 }
 
+void SparseOccupancyGrid::releaseBlock(int bx, int by)
+{
+	if (m_last == m_blocks.find(bx, by)) m_last = nullptr;
+	m_blocks.release(bx, by);
+}
+
 std::size_t SparseOccupancyGrid::blockCount() const { return m_blocks.count(); }
 std::size_t SparseOccupancyGrid::memoryBytes() const { return m_blocks.memoryBytes(); }
 

@@ -117,6 +117,7 @@ const Key kKeys[] = {
 	{"LoopClosure", "odometrySigmaPerRadian", Type::Number},
 	{"LoopClosure", "optimizeEvery", Type::Integer},
 	{"LoopClosure", "rebuildAbove", Type::Number},
+	{"LoopClosure", "reinsertAbove", Type::Number},
 	{"LoopClosure", "revisitMinOverlap", Type::Number},
 	{"LoopClosure", "revisitBelowTypical", Type::Number},
 	{"LoopClosure", "background", Type::Bool},

@@ -37,8 +37,8 @@
  * - Optimisation: Ceres' sparse Levenberg-Marquardt (PoseGraph), as soon as a loop is
  *   accepted after a stretch without one, then every optimizeEvery keyframes while loop
  *   edges keep coming.
- * - The map follows the graph, in part: the keyframes that moved by more than rebuildAbove
- *   metres are re-inserted at their optimised poses. The blocks their scans touch (where they
+ * - The map follows the graph, in part: once a keyframe moved by more than rebuildAbove metres,
+ *   those that moved by more than reinsertAbove are re-inserted at their optimised poses. The blocks their scans touch (where they
  *   were and where they go) are rebuilt on the worker from every keyframe that reaches them, in
  *   order; the front-end's map takes those blocks, and its distance layer re-propagates around
  *   the cells that flipped (OccupancyDistanceGridMap::replaceBlocks). The rest of the map, and
@@ -81,7 +81,7 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	double minTravel = 10.0;  ///< m of path between a keyframe and a loop candidate
 	double searchRadius = 1.0;	///< m: position uncertainty right after a closure
 	double searchRadiusPerMeter = 0.05;	 ///< its growth per m driven since the last closure
-	double maxSearchRadius = 4.0;  ///< m
+	double maxSearchRadius = 10.0;	///< m
 	double searchAngle = 10.0 * M_PI / 180;	 ///< rad, as searchRadius
 	double searchAnglePerMeter = 0.5 * M_PI / 180;	///< rad per m
 	double maxSearchAngle = 45.0 * M_PI / 180;	///< rad
@@ -109,7 +109,10 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	double odometrySigmaLinear = 0.02, odometrySigmaPerMeter = 0.05;  ///< floor of consecutive edges (m, m/m)
 	double odometrySigmaAngular = 1.0 * M_PI / 180, odometrySigmaPerRadian = 0.05;	///< (rad, rad/rad)
 	unsigned optimizeEvery = 10;  ///< keyframes between optimisations while loop edges keep coming
-	double rebuildAbove = 0.05;	 ///< m: a keyframe moved more than this (a cell) is re-inserted into the map
+	/** m: once a keyframe moved more than this (a cell) since it was put into the map, the map
+	 * follows the graph: every keyframe that moved more than reinsertAbove is re-inserted. */
+	double rebuildAbove = 0.05;
+	double reinsertAbove = 0.01;  ///< m
 	bool background = true;	 ///< the back-end on a worker thread (false: inline, same results)
 	/** A keyframe matched by the front-end gets an edge to the earlier visit's keyframe that sees
 	 * this much of its scan (fraction of its returns within a cell of that keyframe's); > 1: none. */
@@ -127,6 +130,9 @@ struct LoopClosureStats
 {
 	std::size_t attempts = 0;  ///< keyframes for which loop candidates were verified
 	std::size_t verified = 0;  ///< matches that passed the verification
+	/** Verified matches dropped because another visit explained the same scan at a place further off
+	 * than searchRadius / searchAngle (a look-alike: which one is right, the scan does not say). */
+	std::size_t ambiguous = 0;
 	std::size_t accepted = 0;  ///< loop edges added to the graph (agreeing matches)
 	std::size_t rejected = 0;  ///< loop edges the chi-square test disables at the end
 	std::size_t closures = 0;  ///< loops accepted after a stretch without one
@@ -231,9 +237,9 @@ class LoopClosure
 	bool optimizeIfDue(bool force);
 	// optimizeIfDue(), then the map patched where keyframes moved: into r. False when nothing was optimised.
 	bool optimizeAndPatch(bool force, JobResult& r);
-	// The patch that re-inserts the keyframes that moved more than `above` (m, a heading change
-	// counted at a 5 m lever arm) since they were put into the map; none when none did.
-	void patchMoved(double above, JobResult& r);
+	// When a keyframe moved more than `trigger` (m, a heading change counted at a 5 m lever arm)
+	// since it was put into the map, the patch that re-inserts those that moved more than `reinsert`.
+	void patchMoved(double trigger, double reinsert, JobResult& r);
 	Eigen::Matrix3d odometryInformation(const mrpt::math::TPose2D& z, double scale) const;
 	Eigen::Matrix3d toEdgeFrame(const Eigen::Matrix3d& mapFrameInformation, double fromPhi) const;
 	std::optional<Update> take(JobResult r);

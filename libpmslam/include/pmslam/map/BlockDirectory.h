@@ -107,6 +107,18 @@ class BlockDirectory
 		return true;
 	}
 
+	/** Frees block (bx, by); false when none was allocated there. */
+	bool release(int bx, int by)
+	{
+		const unsigned i = unsigned(bx - m_x0), j = unsigned(by - m_y0);
+		if (i >= unsigned(m_nx) || j >= unsigned(m_ny)) return false;
+		auto& slot = m_dir[std::size_t(j) * m_nx + i];
+		if (!slot) return false;
+		slot.reset();
+		--m_count;
+		return true;
+	}
+
 	std::size_t count() const { return m_count; }
 	/** Bytes of the blocks and the directory. */
 	std::size_t memoryBytes() const { return m_count * sizeof(Block) + m_dir.capacity() * sizeof(m_dir[0]); }

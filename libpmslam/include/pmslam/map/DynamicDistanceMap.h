@@ -52,6 +52,9 @@ class DynamicDistanceMap
 	std::size_t update();
 	/** Forget everything (keeps resolution and truncation). */
 	void clear();
+	/** Frees block (bx, by) (DynamicDistanceMap block coordinates) if every cell of it is beyond the
+	 * truncation: where obstacles were removed, the blocks they had filled. Only after update(). */
+	bool releaseIfFar(int bx, int by);
 
 	bool isObstacle(int cx, int cy) const;
 	/** Squared distance in cells to the nearest obstacle, or -1 when it is beyond the truncation. */

@@ -51,6 +51,8 @@ class SparseOccupancyGrid
 	const Cell* blockCells(int bx, int by) const;
 	/** The same, allocated if needed. */
 	Cell* obtainBlockCells(int bx, int by);
+	/** Frees block (bx, by): its cells read 0 (never observed) again. */
+	void releaseBlock(int bx, int by);
 
 	/** Inclusive cell bounds of the allocated blocks (false when empty). */
 	bool allocatedBounds(int& x0, int& y0, int& x1, int& y1) const;
