@@ -219,6 +219,7 @@ class LoopClosure
 		std::size_t from, to;
 		mrpt::math::TPose2D z;
 		Eigen::Matrix3d information;
+		double window = 0;	// m: the search window it was found in
 		bool accepted = false;
 	};
 	struct JobResult
