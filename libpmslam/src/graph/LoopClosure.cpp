@@ -369,8 +369,9 @@ std::vector<LoopClosure::Update> LoopClosure::finish()
 	const auto t0 = std::chrono::steady_clock::now();
 	JobResult r;
 	r.optimized = optimizeIfDue(true);
-	// Every keyframe at its final pose, however little it moved: the map written is the trajectory's.
-	patchMoved(0.0, 0.0, r);
+	// Every keyframe at its final pose, however little it moved (a micrometre: not the rounding of
+	// the graph's chained initial guesses): the map written is the trajectory's.
+	patchMoved(0.0, 1e-6, r);
 	if (auto u = take(std::move(r))) out.push_back(std::move(*u));
 	m_stats.backendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	m_stats.rejected = m_stats.revisitsRejected = 0;
