@@ -14,15 +14,17 @@
  * - Loop detection, at most every detectEvery metres driven: the candidates are the keyframes
  *   at least minTravel metres of path back whose pose lies within the position uncertainty,
  *   searchRadius + searchRadiusPerMeter x (distance driven since the last closure), up to
- *   maxSearchRadius (and the same for the heading). The nearest one, and the nearest of a
- *   different visit, are verified: the keyframe's scan is matched against a local map built from
- *   the keyframes within localMapExtent metres of path of the candidate, with the wide-basin
- *   search over the whole uncertainty window and the PM refinement from its best peaks.
+ *   maxSearchRadius (and the same for the heading). They come in runs, one per visit of the
+ *   place; the nearest keyframe of the two nearest runs is verified: the keyframe's scan is
+ *   matched against a local map built from that visit's keyframes within localMapExtent metres of
+ *   path of the candidate (or as far as the window reaches), with the wide-basin search over the
+ *   whole uncertainty window and the PM refinement from its best peaks. Two visits that explain
+ *   the scan at placements further apart than searchRadius are a look-alike: both dropped.
  * - False loops: a verified match must explain the scan (goodness, inlier fraction), be
  *   unambiguous (no distinct pose within ambiguityMargin of its score: a plain or periodic
  *   corridor), put the robot where the local map saw free space and the scan where it saw
  *   something (maxUnexploredFraction: a look-alike fit to part of the map fails this), put
- *   few returns where it saw free space (maxInFreeSpace: a twin corridor's features elsewhere), and agree with agreeingMatches - 1 other verified matches of the last
+ *   few returns where it saw free space (maxInFreeSpace: a twin corridor's features elsewhere), and agree with agreeingMatches - 1 other verified matches (one more per doubling of the window beyond 4 m) of the last
  *   agreeWindow metres (the two loops imply the same relative pose between their keyframes as
  *   the graph does). In the optimisation, loop edges failing a chi-square test are disabled
  *   (PoseGraph: a hard-redescending robust kernel, re-admitted when they fit again).
