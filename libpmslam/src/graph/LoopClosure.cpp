@@ -25,6 +25,7 @@ using mrpt::poses::CPose2D;
 
 TPose2D compose(const TPose2D& a, const TPose2D& b) { return (CPose2D(a) + CPose2D(b)).asTPose(); }
 double distance(const TPose2D& a, const TPose2D& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+bool within(const TPose2D& d, double linear, double angular) { return std::hypot(d.x, d.y) <= linear && std::abs(d.phi) <= angular; }
 
 mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m)
 {
@@ -34,7 +35,7 @@ mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m)
 	return r;
 }
 
-// m: a search window up to which agreeingMatches verified matches are enough (see detect()).
+// m: a search window up to which agreeingMatches verified matches, and 4 refined peaks, are enough.
 constexpr double kWideWindow = 4.0;
 
 // A loose information for a loop edge along directions the scan does not fix (a corridor):
@@ -313,7 +314,7 @@ void LoopClosure::linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian)
 		return;
 	const TPose2D viaGraph = relativePose(m_graph.pose(best), m_graph.pose(node));
 	const TPose2D d = relativePose(viaGraph, z);
-	if (std::hypot(d.x, d.y) > kAgreeLinear || std::abs(d.phi) > kAgreeAngular) return;
+	if (!within(d, kAgreeLinear, kAgreeAngular)) return;
 	// One match supports two edges (to the previous keyframe and to the earlier visit): half each.
 	const Eigen::Matrix3d info = toEdgeFrame(hessian / (2 * m_opts.informationScale), xc.phi) + kLoopFloor;
 	m_graph.addEdge(best, node, z, toMrpt(info), PoseGraphEdgeKind::Loop);
@@ -474,11 +475,7 @@ void LoopClosure::detect(std::size_t node)
 	bool lookAlike = false;
 	for (std::size_t i = 0; i < verified.size(); ++i)
 		for (std::size_t j = i + 1; j < verified.size(); ++j)
-		{
-			const TPose2D d = relativePose(compose(m_graph.pose(verified[i].from), verified[i].z),
-										   compose(m_graph.pose(verified[j].from), verified[j].z));
-			lookAlike = lookAlike || std::hypot(d.x, d.y) > m_opts.searchRadius || std::abs(d.phi) > m_opts.searchAngle;
-		}
+			lookAlike = lookAlike || !within(disagreement(verified[i], verified[j]), m_opts.searchRadius, m_opts.searchAngle);
 	if (lookAlike)
 	{
 		m_stats.ambiguous += verified.size();
@@ -551,7 +548,7 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	};
 	std::vector<Refined> refined;
 	// A wide window holds more look-alike peaks: more of them refined, for the ambiguity test below.
-	const std::size_t peaks = linWindow > 4.0 ? 8 : 4;
+	const std::size_t peaks = linWindow > kWideWindow ? 8 : 4;
 	for (const auto& s : CorrelativeSearch::coarseToFine(dm, hits, x, linWindow, angWindow, peaks))
 	{
 		Refined r;
@@ -594,14 +591,18 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	return m;
 }
 
-bool LoopClosure::agree(const Match& a, const Match& b) const
+TPose2D LoopClosure::disagreement(const Match& a, const Match& b) const
 {
 	// The relative pose between the two matched keyframes, as the graph has it and as the two
 	// loops put them: a wrong loop disagrees with a right one (and with another wrong one).
 	const TPose2D viaGraph = relativePose(m_graph.pose(a.to), m_graph.pose(b.to));
 	const TPose2D viaLoops = relativePose(compose(m_graph.pose(a.from), a.z), compose(m_graph.pose(b.from), b.z));
-	const TPose2D d = relativePose(viaGraph, viaLoops);
-	return std::hypot(d.x, d.y) <= m_opts.agreeLinear && std::abs(d.phi) <= m_opts.agreeAngular;
+	return relativePose(viaGraph, viaLoops);
+}
+
+bool LoopClosure::agree(const Match& a, const Match& b) const
+{
+	return within(disagreement(a, b), m_opts.agreeLinear, m_opts.agreeAngular);
 }
 
 bool LoopClosure::optimizeAndPatch(bool force, JobResult& r)

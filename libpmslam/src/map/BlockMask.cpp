@@ -1,4 +1,5 @@
 /* pmslam — a set of map blocks (see BlockMask.h). */
+#include <pmslam/map/BlockDirectory.h>
 #include <pmslam/map/BlockMask.h>
 
 #include <algorithm>
@@ -11,20 +12,11 @@ void BlockMask::add(int bx, int by)
 	if (m_frozen) throw std::logic_error("BlockMask::add: after freeze()");
 	if (unsigned(bx - m_x0) >= unsigned(m_nx) || unsigned(by - m_y0) >= unsigned(m_ny))
 	{
-		// Grown by half its size on the side exceeded (a moved scan adds a block per 1.6 m of every
-		// beam: the bitmap, not a list of them, bounds the memory).
-		int x0 = m_x0, y0 = m_y0, x1 = m_x0 + m_nx, y1 = m_y0 + m_ny;  // [x0, x1)
-		if (m_nx == 0) x0 = x1 = bx, y0 = y1 = by;
-		if (bx < x0) x0 = std::min(bx, x0 - std::max(4, m_nx / 2));
-		if (bx >= x1) x1 = std::max(bx + 1, x1 + std::max(4, m_nx / 2));
-		if (by < y0) y0 = std::min(by, y0 - std::max(4, m_ny / 2));
-		if (by >= y1) y1 = std::max(by + 1, y1 + std::max(4, m_ny / 2));
-		std::vector<std::uint8_t> bits(std::size_t(x1 - x0) * (y1 - y0), 0);
-		for (int j = 0; j < m_ny; ++j)
-			for (int i = 0; i < m_nx; ++i)
-				bits[std::size_t(j + m_y0 - y0) * (x1 - x0) + (i + m_x0 - x0)] = m_bits[std::size_t(j) * m_nx + i];
-		m_bits.swap(bits);
-		m_x0 = x0, m_y0 = y0, m_nx = x1 - x0, m_ny = y1 - y0;
+		// A moved scan adds a block per 1.6 m of every beam: the bitmap, not a list of them, bounds the memory.
+		int x0 = m_x0, y0 = m_y0, nx = m_nx, ny = m_ny;
+		growWindowToHold(x0, y0, nx, ny, bx, by);
+		moveToWindow(m_bits, m_x0, m_y0, m_nx, m_ny, x0, y0, nx, ny);
+		m_x0 = x0, m_y0 = y0, m_nx = nx, m_ny = ny;
 	}
 	std::uint8_t& b = m_bits[std::size_t(by - m_y0) * m_nx + (bx - m_x0)];
 	m_count += b == 0;

@@ -236,6 +236,9 @@ class LoopClosure
 	void linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian);
 	void detect(std::size_t node);
 	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow);
+	// The two matches' relative pose between their keyframes against the graph's (identity: they agree;
+	// for two matches of one keyframe, how far apart they put it).
+	mrpt::math::TPose2D disagreement(const Match& a, const Match& b) const;
 	bool agree(const Match& a, const Match& b) const;
 	bool optimizeIfDue(bool force);
 	// optimizeIfDue(), then the map patched where keyframes moved: into r. False when nothing was optimised.

@@ -39,6 +39,39 @@ struct CellBounds
 	}
 };
 
+/** Grows the window [x0, x0+nx) × [y0, y0+ny) to hold (bx, by): by at least half its size on each side
+ * exceeded, so a robot driving one way causes O(log) regrowths; an empty window (nx == 0) becomes the
+ * 9 × 9 around it. The storage over the window is the caller's to lay out anew. */
+inline void growWindowToHold(int& x0, int& y0, int& nx, int& ny, int bx, int by)
+{
+	if (nx == 0)
+	{
+		x0 = bx - 4;
+		y0 = by - 4;
+		nx = ny = 9;
+		return;
+	}
+	int x1 = x0 + nx, y1 = y0 + ny;	 // [x0, x1)
+	const int gx = std::max(4, nx / 2), gy = std::max(4, ny / 2);
+	if (bx < x0) x0 = std::min(bx, x0 - gx);
+	if (bx >= x1) x1 = std::max(bx + 1, x1 + gx);
+	if (by < y0) y0 = std::min(by, y0 - gy);
+	if (by >= y1) y1 = std::max(by + 1, y1 + gy);
+	nx = x1 - x0;
+	ny = y1 - y0;
+}
+
+/** Row-major storage over the window (x0, y0, nx, ny) moved into a new window that contains it. */
+template <class T>
+void moveToWindow(std::vector<T>& cells, int x0, int y0, int nx, int ny, int toX0, int toY0, int toNx, int toNy)
+{
+	std::vector<T> out(std::size_t(toNx) * toNy);
+	for (int j = 0; j < ny; ++j)
+		for (int i = 0; i < nx; ++i)
+			out[std::size_t(j + y0 - toY0) * toNx + (i + x0 - toX0)] = std::move(cells[std::size_t(j) * nx + i]);
+	cells.swap(out);
+}
+
 template <class Block>
 class BlockDirectory
 {
@@ -132,28 +165,9 @@ class BlockDirectory
    private:
 	void grow(int bx, int by)
 	{
-		if (m_nx == 0)
-		{
-			// First block: a small window around it.
-			m_x0 = bx - 4;
-			m_y0 = by - 4;
-			m_nx = m_ny = 9;
-			m_dir.resize(std::size_t(m_nx) * m_ny);
-			return;
-		}
-		int x0 = m_x0, y0 = m_y0, x1 = m_x0 + m_nx, y1 = m_y0 + m_ny;  // [x0, x1)
-		// Grow by at least half the current size on the side that is exceeded, so a
-		// robot driving in one direction causes O(log) reallocations.
-		if (bx < x0) x0 = std::min(bx, x0 - std::max(4, m_nx / 2));
-		if (bx >= x1) x1 = std::max(bx + 1, x1 + std::max(4, m_nx / 2));
-		if (by < y0) y0 = std::min(by, y0 - std::max(4, m_ny / 2));
-		if (by >= y1) y1 = std::max(by + 1, y1 + std::max(4, m_ny / 2));
-		const int nx = x1 - x0, ny = y1 - y0;
-		std::vector<std::unique_ptr<Block>> dir(std::size_t(nx) * ny);
-		for (int j = 0; j < m_ny; ++j)
-			for (int i = 0; i < m_nx; ++i)
-				dir[std::size_t(j + m_y0 - y0) * nx + (i + m_x0 - x0)] = std::move(m_dir[std::size_t(j) * m_nx + i]);
-		m_dir.swap(dir);
+		int x0 = m_x0, y0 = m_y0, nx = m_nx, ny = m_ny;
+		growWindowToHold(x0, y0, nx, ny, bx, by);
+		moveToWindow(m_dir, m_x0, m_y0, m_nx, m_ny, x0, y0, nx, ny);
 		m_x0 = x0;
 		m_y0 = y0;
 		m_nx = nx;

@@ -43,7 +43,7 @@ class SparseOccupancyGrid
 		visitLineOnceWithin(x, y, ex, ey, [](int, int) { return true; }, f);
 	}
 	/** The same for the cells whose block (bx, by) keep() accepts: the others are neither visited nor
-	 * allocated (a map re-inserted in part: GridPatch). */
+	 * allocated (a map re-inserted in part: OccupancyDistanceGridMap::insertScanWithin). */
 	template <class Keep, class F>
 	void visitLineOnceWithin(int x, int y, int ex, int ey, Keep&& keep, F&& f);
 
