@@ -245,11 +245,16 @@ void LoopClosure::linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian)
 	// detected loop of the last agreeWindow metres between them (a front-end back at a place after
 	// a loop's drift matches its own recent scans, and along a corridor still overlaps the earlier
 	// visit's walls). Where the earlier ends of those loops are (m of path); none: nothing to link.
+	// A loop vouches for the front-end's alignment only where it agrees with it: the relative pose
+	// of its two keyframes where their scans are in the map (a front-end that snapped onto the
+	// earlier visit a metre along a corridor, after a drop-out, is outvoted by the loops otherwise).
 	std::vector<double> verifiedAt;
 	for (auto m = m_matches.rbegin(); m != m_matches.rend(); ++m)	// newest first
 	{
 		if (n.travel - m_nodes[m->to].travel > m_opts.agreeWindow) break;
-		if (m->accepted) verifiedAt.push_back(m_nodes[m->from].travel);
+		const TPose2D inMap = relativePose(m_nodes[m->from].mapPose, m_nodes[m->to].mapPose);
+		if (m->accepted && within(relativePose(inMap, m->z), m_opts.agreeLinear, m_opts.agreeAngular))
+			verifiedAt.push_back(m_nodes[m->from].travel);
 	}
 	if (verifiedAt.empty()) return;
 	constexpr double kCell = 0.1, kRadius = 3.0;
@@ -419,9 +424,10 @@ void LoopClosure::detect(std::size_t node)
 	const Node& n = m_nodes[node];
 	if (n.travel - m_lastAttempt < m_opts.detectEvery) return;
 	const TPose2D x = m_graph.pose(node);
-	const double since = n.travel - m_lastClosure;
+	const double since = n.travel - m_lastAnchor;
 	// The position uncertainty relative to a node grows with the path driven since then, and
-	// since the last closure (which anchored the graph).
+	// since the last closure that anchored the graph (not one within a stretch placed after lost
+	// tracking: that tells nothing of where the stretch is relative to the rest).
 	const auto radius = [&](double back) {
 		return std::min(m_opts.maxSearchRadius, m_opts.searchRadius + m_opts.searchRadiusPerMeter * std::min(since, back));
 	};
@@ -496,22 +502,27 @@ void LoopClosure::detect(std::size_t node)
 		const unsigned extra = m.window > kWideWindow ? unsigned(std::ceil(std::log2(m.window / kWideWindow))) : 0;
 		if (agreeing.size() + 1 < m_opts.agreeingMatches + extra) continue;
 		agreeing.push_back(m_matches.size() - 1);
+		// A loop confirms where the front-end put the robot after lost tracking only if it reaches
+		// back across the loss; one within the stretch since (the robot back on its own recent
+		// path) does not.
+		const bool internal = m_unconfirmedFrom != SIZE_MAX && m.from >= m_unconfirmedFrom;
 		for (std::size_t i : agreeing)
 		{
 			Match& a = m_matches[i];
 			if (a.accepted) continue;
 			a.accepted = true;
 			m_graph.addEdge(a.from, a.to, a.z, toMrpt(a.information), PoseGraphEdgeKind::Loop);
-			if (a.to >= m_unconfirmedFrom) m_unconfirmedFrom = SIZE_MAX;
+			if (a.from < m_unconfirmedFrom && a.to >= m_unconfirmedFrom) m_unconfirmedFrom = SIZE_MAX;
 			++m_stats.accepted;
 			++m_pendingLoops;
 		}
-		if (since > m_opts.minTravel)
+		if (n.travel - m_lastClosure > m_opts.minTravel)
 		{
 			++m_stats.closures;
 			m_loopOpen = true;	// a new loop: optimise now
 		}
 		m_lastClosure = n.travel;
+		if (!internal) m_lastAnchor = n.travel;
 	}
 }
 

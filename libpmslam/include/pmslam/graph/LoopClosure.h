@@ -259,11 +259,12 @@ class LoopClosure
 	PoseGraph m_graph;
 	std::vector<Match> m_matches;  // verified, of the last agreeWindow metres (and all accepted ones)
 	double m_lastAttempt = -1e18, m_lastClosure = 0;  // travel (m)
+	double m_lastAnchor = 0;  // travel at the last closure not within a stretch placed after lost tracking
 	std::size_t m_sinceOptimization = 0, m_pendingLoops = 0;
 	std::size_t m_checkedEdges = 0;	 // edges before this index were in an optimisation or its check
 	bool m_loopOpen = false;  // a loop was accepted and the graph not yet optimised with it
-	// First keyframe after tracking was last lost, until a detected loop confirms where the front-end
-	// put the robot since (SIZE_MAX: confirmed): no revisit edges meanwhile.
+	// First keyframe after tracking was last lost, until a detected loop reaching back across the loss
+	// confirms where the front-end put the robot since (SIZE_MAX: confirmed): no revisit edges meanwhile.
 	std::size_t m_unconfirmedFrom = SIZE_MAX;
 	std::vector<float> m_goodness;	// of the last tracked keyframes' matches (a ring)
 	std::size_t m_goodnessNext = 0;
