@@ -460,6 +460,17 @@ void LoopClosure::detect(std::size_t node)
 	constexpr std::size_t kVisits = 2;	// visits verified per attempt
 	std::size_t best[kVisits];
 	for (std::size_t k = 0; k < kVisits; ++k) best[k] = k < runs.size() ? runs[k].id : SIZE_MAX;
+	// Since tracking was lost the graph holds the stretch since where the front-end put it: its own
+	// recent visits are the nearest, and a visit from before the loss, where the stretch may be far
+	// off, would never be tried. One of the visits verified is the nearest from before the loss.
+	const auto beforeLoss = [&](std::size_t id) { return id < m_unconfirmedFrom; };
+	if (m_unconfirmedFrom != SIZE_MAX && std::none_of(best, best + kVisits, [&](std::size_t id) { return id != SIZE_MAX && beforeLoss(id); }))
+		for (const Candidate& c : runs)
+			if (beforeLoss(c.id))
+			{
+				best[kVisits - 1] = c.id;
+				break;
+			}
 	if (best[0] == SIZE_MAX) return;
 	m_lastAttempt = n.travel;
 	++m_stats.attempts;
@@ -478,10 +489,12 @@ void LoopClosure::detect(std::size_t node)
 	}
 	// Two visits that each explain the scan, at places further apart than the graph can be off right
 	// after a closure: a look-alike place (a corridor's pilasters a period on), whichever is right.
+	// (Not a visit from before lost tracking against one since: there the graph may be off by any amount.)
 	bool lookAlike = false;
 	for (std::size_t i = 0; i < verified.size(); ++i)
 		for (std::size_t j = i + 1; j < verified.size(); ++j)
-			lookAlike = lookAlike || !within(disagreement(verified[i], verified[j]), m_opts.searchRadius, m_opts.searchAngle);
+			lookAlike = lookAlike || (beforeLoss(verified[i].from) == beforeLoss(verified[j].from) &&
+									  !within(disagreement(verified[i], verified[j]), m_opts.searchRadius, m_opts.searchAngle));
 	if (lookAlike)
 	{
 		m_stats.ambiguous += verified.size();
@@ -627,7 +640,6 @@ bool LoopClosure::optimizeAndPatch(bool force, JobResult& r)
 bool LoopClosure::optimizeIfDue(bool force)
 {
 	if (m_pendingLoops == 0 || (!force && m_sinceOptimization < m_opts.optimizeEvery)) return false;
-	if (!force)
 	{
 		// Loop edges the graph already satisfies (chi-square within the test's quantile: a revisit
 		// of a place the graph has right) would change nothing: they wait for the next
@@ -641,6 +653,7 @@ bool LoopClosure::optimizeIfDue(bool force)
 		if (worst <= PoseGraphOptions().chi2Threshold)
 		{
 			m_pendingLoops = 0;
+			m_loopOpen = false;
 			return false;
 		}
 	}

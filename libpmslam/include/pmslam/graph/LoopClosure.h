@@ -34,11 +34,16 @@
  *   relative pose the front-end had, once a detected loop of the last agreeWindow metres has
  *   verified that the two visits are aligned and the graph agrees; not from a match that explains
  *   its scan poorly (revisitBelowTypical), nor after lost tracking or a re-localisation until a
- *   detected loop confirms the front-end's placement. Without them an
+ *   detected loop reaching back across the loss confirms the front-end's placement, and only
+ *   where the detected loops agree with the front-end. Without them an
  *   optimisation for a loop elsewhere bends the stretch between two visits freely.
+ * - After lost tracking, the stretch since is where the front-end put it: the search window
+ *   towards what came before keeps growing until a loop across the loss anchors it (a loop of
+ *   the stretch onto itself does not), and one of the visits verified is from before the loss.
  * - Optimisation: Ceres' sparse Levenberg-Marquardt (PoseGraph), as soon as a loop is
  *   accepted after a stretch without one, then every optimizeEvery keyframes while loop
- *   edges keep coming.
+ *   edges keep coming; only when a loop edge added since fails the chi-square test against
+ *   the current graph (one the front-end has right would only spread matching noise).
  * - The map follows the graph, in part: once a keyframe moved by more than rebuildAbove metres,
  *   those that moved by more than reinsertAbove are re-inserted at their optimised poses. The blocks their scans touch (where they
  *   were and where they go) are rebuilt on the worker from every keyframe that reaches them, in
