@@ -4,6 +4,8 @@
 #include <pmslam/eval/RelativePoseEvaluation.h>
 #include <pmslam/io/Trajectory.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -186,6 +188,22 @@ TEST_F(TrajectoryIo, AtomicWriteFailureNamesPath)
 	const std::string msg2 = errorOf([&] { writeFileAtomically(path("adir"), [](std::ostream& os) { os << "x"; }); });
 	EXPECT_NE(msg2.find(path("adir")), std::string::npos) << msg2;
 	EXPECT_TRUE(strayFiles("adir").empty());
+}
+
+TEST_F(TrajectoryIo, AtomicWriteToAPipeWritesIntoItAndKeepsIt)
+{
+	// A FIFO stands for /dev/null or /dev/stdout: renaming a file over it would replace the device.
+	const std::string p = path("pipe");
+	ASSERT_EQ(::mkfifo(p.c_str(), 0600), 0);
+	const int reader = ::open(p.c_str(), O_RDONLY | O_NONBLOCK);  // so that the writer's open does not block
+	ASSERT_GE(reader, 0);
+	writeFileAtomically(p, [](std::ostream& os) { os << "through the pipe\n"; });
+	char buf[64] = {};
+	const ssize_t n = ::read(reader, buf, sizeof buf - 1);
+	::close(reader);
+	EXPECT_EQ(std::string(buf, n > 0 ? std::size_t(n) : 0), "through the pipe\n");
+	EXPECT_TRUE(fs::is_fifo(p));
+	EXPECT_TRUE(strayFiles("pipe").empty());
 }
 
 TEST_F(TrajectoryIo, SaveRejectsNonFinite)

@@ -91,6 +91,37 @@ void syncDirectory(const std::string& dir)
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& writer)
 {
 	if (path.empty()) throw std::runtime_error("cannot write file: empty path");
+	// A device or a pipe (/dev/null, /dev/stdout, a FIFO) is written in place: there is no old
+	// content to keep, and a rename would replace the device with a plain file.
+	struct stat target;
+	if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode) && !S_ISDIR(target.st_mode))
+	{
+		const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+		if (fd < 0)
+		{
+			const int err = errno;
+			throw std::runtime_error("cannot write '" + path + "': " + osError(err));
+		}
+		int err = 0;
+		{
+			FdStreamBuf buf(fd);
+			std::ostream os(&buf);
+			try
+			{
+				writer(os);
+			}
+			catch (...)
+			{
+				::close(fd);
+				throw;
+			}
+			os.flush();
+			if (!os) err = buf.error() != 0 ? buf.error() : EIO;
+		}
+		if (::close(fd) != 0 && err == 0) err = errno;
+		if (err != 0) throw std::runtime_error("cannot write '" + path + "': write failed: " + osError(err));
+		return;
+	}
 	const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(::getpid()));
 	auto fail = [&](const std::string& what, int err) -> void {
 		::unlink(tmp.c_str());

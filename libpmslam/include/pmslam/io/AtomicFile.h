@@ -7,7 +7,8 @@
  * writeFileAtomically() streams into "PATH.tmp.<pid>" in the same directory,
  * flushes, checks every write, fsync()s the data, then rename()s the temporary
  * over PATH (atomic on POSIX file systems) and fsync()s the directory. When the
- * target already exists its permission bits are kept.
+ * target already exists its permission bits are kept. A target that is a device or a pipe
+ * (/dev/null, /dev/stdout, a FIFO) is written in place, never replaced.
  */
 #pragma once
 
