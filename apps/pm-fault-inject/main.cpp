@@ -16,6 +16,7 @@
  * Exit status: 0 done, 2 bad arguments or unreadable input.
  */
 #include <mrpt/poses/CPose2D.h>
+#include <pmslam/io/AtomicFile.h>
 
 #include <cmath>
 #include <cstdio>
@@ -247,10 +248,16 @@ int main(int argc, char** argv)
 		for (const auto& w : l.tok) s += (s.empty() ? "" : " ") + w;
 		l.text = s;
 	}
-	std::ofstream o(out + ".tmp");
-	for (const auto& l : lines)
-		if (l.keep) o << l.text << "\n";
-	o.close();
-	if (!o || std::rename((out + ".tmp").c_str(), out.c_str()) != 0) fail("cannot write '" + out + "'");
+	try
+	{
+		pmslam::writeFileAtomically(out, [&](std::ostream& o) {
+			for (const auto& l : lines)
+				if (l.keep) o << l.text << "\n";
+		});
+	}
+	catch (const std::exception& e)
+	{
+		fail(e.what());
+	}
 	return 0;
 }
