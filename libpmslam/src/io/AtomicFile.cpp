@@ -86,6 +86,25 @@ void syncDirectory(const std::string& dir)
 	(void)::fsync(fd);
 	::close(fd);
 }
+/** Runs `writer` on a stream into `fd`; returns the first write error (0: none). If `writer`
+ * throws, closes `fd`, runs `cleanup` and rethrows. */
+int streamInto(int fd, const std::function<void(std::ostream&)>& writer, const std::function<void()>& cleanup)
+{
+	FdStreamBuf buf(fd);
+	std::ostream os(&buf);
+	try
+	{
+		writer(os);
+	}
+	catch (...)
+	{
+		::close(fd);
+		cleanup();
+		throw;
+	}
+	os.flush();
+	return os ? 0 : (buf.error() != 0 ? buf.error() : EIO);
+}
 }  // namespace
 
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& writer)
@@ -102,22 +121,7 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 			const int err = errno;
 			throw std::runtime_error("cannot write '" + path + "': " + osError(err));
 		}
-		int err = 0;
-		{
-			FdStreamBuf buf(fd);
-			std::ostream os(&buf);
-			try
-			{
-				writer(os);
-			}
-			catch (...)
-			{
-				::close(fd);
-				throw;
-			}
-			os.flush();
-			if (!os) err = buf.error() != 0 ? buf.error() : EIO;
-		}
+		int err = streamInto(fd, writer, [] {});
 		if (::close(fd) != 0 && err == 0) err = errno;
 		if (err != 0) throw std::runtime_error("cannot write '" + path + "': write failed: " + osError(err));
 		return;
@@ -139,28 +143,8 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 	struct stat st;
 	if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) (void)::fchmod(fd, st.st_mode & 07777);
 
-	int err = 0;
-	std::string stage;
-	{
-		FdStreamBuf buf(fd);
-		std::ostream os(&buf);
-		try
-		{
-			writer(os);
-		}
-		catch (...)
-		{
-			::close(fd);
-			::unlink(tmp.c_str());
-			throw;
-		}
-		os.flush();
-		if (!os)
-		{
-			err = buf.error() != 0 ? buf.error() : EIO;
-			stage = "write failed";
-		}
-	}
+	int err = streamInto(fd, writer, [&] { ::unlink(tmp.c_str()); });
+	std::string stage = err != 0 ? "write failed" : "";
 	if (err == 0 && ::fsync(fd) != 0 && errno != EINVAL && errno != EROFS)
 	{
 		err = errno;
