@@ -4,7 +4,8 @@
 #
 #   bench/robustness.sh [DATASETS_DIR]      (default: ../shared/datasets next to the repository)
 #
-# Environment: SEEDS (default "1 2 3"), ICP=0 to skip the ICP peer (it runs on level a, first seed, of every
+# Environment: SEEDS (default "1 2 3"), SET="SECTION.KEY=VALUE ..." to run pmslam with those keys overridden
+# (e.g. SET=LoopClosure.enabled=false for the front-end alone; the clean row too), ICP=0 to skip the ICP peer (it runs on level a, first seed, of every
 # fault: it is 20-40x slower), ICP=reuse to keep the peer's results from the previous run in build/ and run only
 # those missing (the peer and the injected logs do not change with pmslam), FAULTS to run a subset (names below).
 # Writes bench/results/robustness.md (table) and bench/results/robustness.png (error / clean error per fault);
@@ -15,6 +16,8 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 datasets="${1:-$repo/../shared/datasets}"
 seeds=(${SEEDS:-1 2 3})
 run_icp="${ICP:-1}"
+set_args=()
+for kv in ${SET:-}; do set_args+=(--set "$kv"); done
 build="$repo/build"
 bin="$build/bin"
 work="$build/robustness-runs"
@@ -69,7 +72,7 @@ run() {
   local sys=$1 log=$2 out=$3 d=$4 rc=0
   mkdir -p "$out"
   if [ "$sys" = pmslam ]; then
-    "$bin/pm-slam-app" --config "$config" --no-progress --max-untracked 1e9 "$log" --out "$out" \
+    "$bin/pm-slam-app" --config "$config" "${set_args[@]}" --no-progress --max-untracked 1e9 "$log" --out "$out" \
       >"$out/stdout.txt" 2>"$out/stderr.txt" || rc=$?
   else
     "$bin/pm-icp-slam" --config "$repo/config/icp-slam-tuned.ini" "$log" --out "$out" >"$out/stdout.txt" 2>"$out/stderr.txt" || rc=$?
@@ -120,7 +123,7 @@ plotdata="$work/plot.txt"; : >"$plotdata"
 {
   echo "# pmslam under injected faults"
   echo
-  echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC'); command: \`bench/robustness.sh\` (SEEDS=\"${seeds[*]}\"), commit $commit"
+  echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC'); command: \`bench/robustness.sh\` (SEEDS=\"${seeds[*]}\"${SET:+, SET=\"$SET\"}), commit $commit"
   echo "- each fault injected by \`pm-fault-inject\` into the Carmen log; error = Kuemmerle et al. relative metric"
   echo "  (mean translational error, m) over the relations whose scans are in the faulted log; ratio = error / clean error."
   echo "- pmslam: worst and median over the seeds; ms/scan and matched fraction (accepted / attempted matches) of the worst seed."
