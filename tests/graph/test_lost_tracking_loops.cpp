@@ -10,6 +10,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/graph/LoopClosure.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "SyntheticWorld.h"
@@ -96,17 +97,16 @@ TEST(LostTrackingLoops, AStretchLoopingOntoItselfIsStillBroughtBackToWhatCameBef
 		lc.addKeyframe(placed.asTPose(), 100 + k, pmslam::scanToPoints(scan), H, k != lost, false);
 	}
 	lc.finish();
-	// Where the graph has the last keyframe relative to the first, against the truth.
-	const CPose2D first(lc.nodePose(0)), last(lc.nodePose(n - 1));
-	const CPose2D rel = last - first, truthRel = CPose2D(path.poses[n - 1]) - CPose2D(path.poses[0]);
-	const double error = std::hypot(rel.x() - truthRel.x(), rel.y() - truthRel.y());
-	// And the keyframes of the dead end (placed only by the front-end and the loops).
+	// Where the graph has each keyframe since the loss relative to the first, against the truth: the
+	// last one, and the worst (the dead end is placed only by the front-end and the loops).
+	const auto off = [&](std::size_t k) {
+		const CPose2D r = CPose2D(lc.nodePose(k)) - CPose2D(lc.nodePose(0));
+		const CPose2D t = CPose2D(path.poses[k]) - CPose2D(path.poses[0]);
+		return std::hypot(r.x() - t.x(), r.y() - t.y());
+	};
+	const double error = off(n - 1);
 	double worst = 0;
-	for (std::size_t k = lost; k < n; ++k)
-	{
-		const CPose2D r = CPose2D(lc.nodePose(k)) - first, t = CPose2D(path.poses[k]) - CPose2D(path.poses[0]);
-		worst = std::max(worst, std::hypot(r.x() - t.x(), r.y() - t.y()));
-	}
+	for (std::size_t k = lost; k < n; ++k) worst = std::max(worst, off(k));
 	std::printf("%zu keyframes, lost at %zu: last keyframe %.3f m off, worst since the loss %.3f m (front-end: 2.5 m); "
 				"%zu loops closed, %zu loop edges\n",
 				n, lost, error, worst, lc.stats().closures, lc.stats().accepted);

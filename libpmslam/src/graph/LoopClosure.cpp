@@ -518,14 +518,14 @@ void LoopClosure::detect(std::size_t node)
 		// A loop confirms where the front-end put the robot after lost tracking only if it reaches
 		// back across the loss; one within the stretch since (the robot back on its own recent
 		// path) does not.
-		const bool internal = m_unconfirmedFrom != SIZE_MAX && m.from >= m_unconfirmedFrom;
+		const bool internal = !beforeLoss(m.from);
 		for (std::size_t i : agreeing)
 		{
 			Match& a = m_matches[i];
 			if (a.accepted) continue;
 			a.accepted = true;
 			m_graph.addEdge(a.from, a.to, a.z, toMrpt(a.information), PoseGraphEdgeKind::Loop);
-			if (a.from < m_unconfirmedFrom && a.to >= m_unconfirmedFrom) m_unconfirmedFrom = SIZE_MAX;
+			if (beforeLoss(a.from) && !beforeLoss(a.to)) m_unconfirmedFrom = SIZE_MAX;
 			++m_stats.accepted;
 			++m_pendingLoops;
 		}
@@ -640,30 +640,22 @@ bool LoopClosure::optimizeAndPatch(bool force, JobResult& r)
 bool LoopClosure::optimizeIfDue(bool force)
 {
 	if (m_pendingLoops == 0 || (!force && m_sinceOptimization < m_opts.optimizeEvery)) return false;
-	{
-		// Loop edges the graph already satisfies (chi-square within the test's quantile: a revisit
-		// of a place the graph has right) would change nothing: they wait for the next
-		// optimisation that is needed anyway.
-		double worst = 0;
-		const auto& edges = m_graph.edges();
-		for (std::size_t i = m_checkedEdges; i < edges.size(); ++i)
-			if (edges[i].kind == PoseGraphEdgeKind::Loop) worst = std::max(worst, m_graph.edgeChi2(i));
-		m_sinceOptimization = 0;
-		m_checkedEdges = edges.size();
-		if (worst <= PoseGraphOptions().chi2Threshold)
-		{
-			m_pendingLoops = 0;
-			m_loopOpen = false;
-			return false;
-		}
-	}
+	// Loop edges the graph already satisfies (chi-square within the test's quantile: a revisit of a
+	// place the graph has right, a new loop the front-end closed itself) would change nothing: they
+	// wait for the next optimisation that is needed anyway.
+	double worst = 0;
+	const auto& edges = m_graph.edges();
+	for (std::size_t i = m_checkedEdges; i < edges.size(); ++i)
+		if (edges[i].kind == PoseGraphEdgeKind::Loop) worst = std::max(worst, m_graph.edgeChi2(i));
+	// Checked now, optimised or not (the optimisation adds no edge).
+	m_sinceOptimization = 0;
+	m_checkedEdges = edges.size();
+	m_pendingLoops = 0;
+	m_loopOpen = false;
+	if (worst <= PoseGraphOptions().chi2Threshold) return false;
 	const PoseGraphStats st = m_graph.optimize();
 	m_stats.optimizeSeconds += st.seconds;
 	++m_stats.optimizations;
-	m_pendingLoops = 0;
-	m_checkedEdges = m_graph.edges().size();
-	m_sinceOptimization = 0;
-	m_loopOpen = false;
 	return true;
 }
 
