@@ -332,6 +332,9 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	// window is searched even when the match there looks good (along a corridor it may be a
 	// look-alike a few metres back).
 	const bool stale = gap && !odomNow && std::isfinite(sincePrevious);
+	// ...and, without odometry, until a search has decided where the robot is: the prediction
+	// stays the stale one.
+	const bool alwaysSearch = stale || (m_lost && !odomNow);
 	if (stale)
 	{
 		linWindow += PM_options.relocalizeSpeed * sincePrevious;
@@ -352,7 +355,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 				prior = PerfectMatchMatcher::PosePrior::diagonal(r.predicted, PM_options.odometryPriorSigmaXY,
 																 PM_options.odometryPriorSigmaPhi);
 			const mrpt::math::TPose2D est =
-				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r, stale);
+				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r, alwaysSearch);
 			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 			if (std::isfinite(now)) m_lastMatchTime = now;
 			keepReferenceRanges(scan);
@@ -362,7 +365,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 									std::abs(mrpt::math::wrapToPi(est.phi - r.predicted.phi)) < mrpt::DEG2RAD(1.0);
 			if (stillThere)
 				;  // not a match: the pose and the insertion gate stay as they were
-			else if (acceptable(r.info))
+			else if (!r.undecided && acceptable(r.info))
 			{
 				r.pose = est;
 				// Only odometry can say where the robot is along a direction the scan leaves open: without
@@ -608,6 +611,8 @@ mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TP
 								  std::abs(mrpt::math::wrapToPi(p.phi - best.phi)) > mrpt::DEG2RAD(5.0);
 			if (distinct && g > bestGoodness - PM_options.relocalizeAmbiguity)
 			{
+				// A stale prediction is no fallback: where a lidar alone was before a gap it is not now.
+				r.undecided = alwaysSearch;
 				r.relocalized = false;
 				r.info = predictionInfo;
 				best = atPrediction;

@@ -184,6 +184,7 @@ class PerfectMatchSlam
 		bool matched = false, inserted = false;
 		bool wideSearch = false;  ///< the wide search ran for this scan
 		bool relocalized = false;  ///< the wide search found a better pose than the match from the prediction
+		bool undecided = false;	 ///< a stale prediction's search found look-alike poses: not matched, searched again
 		bool rejected = false;	///< matched, but the match was not trusted (the pose is the prediction)
 		bool degenerate = false;  ///< the scan left a direction unconstrained: the prediction was kept along it
 		bool reanchored = false;  ///< lost on new ground: inserted at the odometry pose (newGroundUnexplored)
