@@ -31,33 +31,6 @@ void requireProbability(double p, const char* key)
 }
 }  // namespace
 
-void OccupancyGridUpdateOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
-																   const std::string& s)
-{
-	resolution = c.read_double(s, "resolution", resolution);
-	maxDistance = c.read_double(s, "maxDistance", maxDistance);
-	hitProbability = c.read_double(s, "hitProbability", hitProbability);
-	missProbability = c.read_double(s, "missProbability", missProbability);
-	clampProbability = c.read_double(s, "clampProbability", clampProbability);
-	joinHitsCloserThan = c.read_double(s, "joinHitsCloserThan", joinHitsCloserThan);
-	freeCarveLength = c.read_double(s, "freeCarveLength", freeCarveLength);
-	freeCarveMarginBeforeHit = c.read_double(s, "freeCarveMarginBeforeHit", freeCarveMarginBeforeHit);
-	scan.minRange = c.read_double(s, "minRange", scan.minRange);
-	scan.maxHitRange = c.read_double(s, "maxHitRange", scan.maxHitRange);
-	scan.noReturnCarveRange = c.read_double(s, "noReturnCarveRange", scan.noReturnCarveRange);
-}
-
-void OccupancyGridUpdateOptions::dumpToTextStream(std::ostream& out) const
-{
-	out << "resolution = " << resolution << "\nmaxDistance = " << maxDistance
-		<< "\nhitProbability = " << hitProbability << "\nmissProbability = " << missProbability
-		<< "\nclampProbability = " << clampProbability << "\njoinHitsCloserThan = " << joinHitsCloserThan
-		<< "\nfreeCarveLength = " << freeCarveLength
-		<< "\nfreeCarveMarginBeforeHit = " << freeCarveMarginBeforeHit
-		<< "\nminRange = " << scan.minRange
-		<< "\nmaxHitRange = " << scan.maxHitRange << "\nnoReturnCarveRange = " << scan.noReturnCarveRange << "\n";
-}
-
 OccupancyDistanceGridMap::OccupancyDistanceGridMap(const TUpdateOptions& opts)
 	: COccupancyGridMap2D(0.f, static_cast<float>(opts.resolution), 0.f, static_cast<float>(opts.resolution),
 						  static_cast<float>(opts.resolution)),
@@ -208,29 +181,14 @@ void OccupancyDistanceGridMap::rasterize(const ScanPoints& scan, const mrpt::mat
 		return std::hypot(double(p.x) - scan.sensorOrigin.x, double(p.y) - scan.sensorOrigin.y) > kMaxBeamLength;
 	};
 	// Hits first, so a cell that is both hit and crossed in this scan counts as hit.
-	const double join2 = m_opts.joinHitsCloserThan * m_opts.joinHitsCloserThan;
-	for (std::size_t i = 0; i < scan.hits.size(); ++i)
-	{
-		if (tooFar(scan.hits[i])) continue;
-		const auto [ix, iy] = cellOf(scan.hits[i]);
-		touch(ix, iy, m_hitDelta);
-		if (i > 0 && join2 > 0)
+	for (const auto& p : scan.hits)
+		if (!tooFar(p))
 		{
-			const auto& a = scan.hits[i - 1];
-			const auto& b = scan.hits[i];
-			if (!tooFar(a) && double(a.x - b.x) * (a.x - b.x) + double(a.y - b.y) * (a.y - b.y) < join2)
-			{
-				const auto [jx, jy] = cellOf(a);
-				line(jx, jy, ix, iy, m_hitDelta);
-			}
+			const auto [ix, iy] = cellOf(p);
+			touch(ix, iy, m_hitDelta);
 		}
-	}
-	// Free space: every cell a beam crosses before its endpoint, or only the last
-	// freeCarveLength metres of it (the cells near the robot are crossed by many beams;
-	// a long beam adds little there but costs a cell visit per 5 cm).
-	const double carve = m_opts.freeCarveLength, margin = m_opts.freeCarveMarginBeforeHit;
-	// Carves from the sensor (or freeCarveLength before the end) to `stopShort` metres
-	// before point p.
+	// Free space: every cell a beam crosses from the sensor to `stopShort` metres before point p.
+	const double margin = m_opts.freeCarveMarginBeforeHit;
 	auto carveTo = [&](const mrpt::math::TPoint2Df& p, double stopShort) {
 		const double dx = double(p.x) - scan.sensorOrigin.x, dy = double(p.y) - scan.sensorOrigin.y;
 		const double len = std::hypot(dx, dy);
@@ -240,10 +198,9 @@ void OccupancyDistanceGridMap::rasterize(const ScanPoints& scan, const mrpt::mat
 			const auto [wx, wy] = toWorld(scan.sensorOrigin.x + t * dx, scan.sensorOrigin.y + t * dy);
 			return cellIndex(wx, wy);
 		};
-		if (stopShort > 0 && (len <= stopShort || (carve > 0 && carve <= stopShort))) return;  // nothing left
+		if (stopShort > 0 && len <= stopShort) return;	// nothing left
 		const auto [ex, ey] = stopShort > 0 ? cellBefore(stopShort) : cellOf(p);
-		const auto [fx, fy] = carve > 0 && len > carve ? cellBefore(carve) : std::pair<int, int>(sx, sy);
-		line(fx, fy, ex, ey, m_missDelta);
+		line(sx, sy, ex, ey, m_missDelta);
 	};
 	// A beam that ends on a wall seen at a grazing angle crosses the cells just in front of
 	// its endpoint that hold that same wall: stopping the carving short keeps such walls solid.

@@ -88,20 +88,8 @@ mrpt::poses::CPosePDF::Ptr PerfectMatchAligner::AlignPDF(const mrpt::maps::CMetr
 	if (outInfo)
 		info = dynamic_cast<TReturnInfo*>(&outInfo.value().get());
 	if (!info) info = &local;
-	std::optional<PosePrior> prior;
-	if (options.useInitialCovarianceAsPrior)
-	{
-		Eigen::Matrix3d C;
-		for (int r = 0; r < 3; ++r)
-			for (int c = 0; c < 3; ++c) C(r, c) = initialEstimationPDF.cov(r, c);
-		const Eigen::LDLT<Eigen::Matrix3d> ldlt(C);
-		if (ldlt.info() == Eigen::Success && ldlt.isPositive() && (ldlt.vectorD().array() > 0).all())
-		{
-			prior = PosePrior{init, C.inverse()};
-		}
-	}
 	Eigen::Matrix3d cov;
-	mrpt::math::TPose2D result = alignPoints(*layer, points, init, info, &cov, prior ? &*prior : nullptr);
+	mrpt::math::TPose2D result = alignPoints(*layer, points, init, info, &cov);
 	result.x += shiftX;
 	result.y += shiftY;
 

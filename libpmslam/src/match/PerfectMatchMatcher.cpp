@@ -38,84 +38,6 @@ std::string toString(PerfectMatchMatcher::RobustKernel k)
 
 namespace
 {
-template <typename E>
-E parseEnum(const std::string& key, const std::string& value, std::initializer_list<E> all)
-{
-	std::string known;
-	for (E e : all)
-	{
-		if (toString(e) == value) return e;
-		known += (known.empty() ? "" : ", ") + toString(e);
-	}
-	throw std::invalid_argument("[PerfectMatch] " + key + " = '" + value + "': expected one of " + known);
-}
-
-void requireRange(const char* key, double v, double lo, double hi)
-{
-	if (!(v >= lo && v <= hi))
-		throw std::invalid_argument(std::string("[PerfectMatch] ") + key + " = " + std::to_string(v) +
-									": expected a value in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-}
-}  // namespace
-
-void PerfectMatchMatcher::TConfigParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
-															 const std::string& s)
-{
-	optimizer = parseEnum(
-		"optimizer", c.read_string(s, "optimizer", toString(optimizer)),
-		{Optimizer::RPROP, Optimizer::GaussNewton, Optimizer::LevenbergMarquardt});
-	robustKernel = parseEnum("robustKernel", c.read_string(s, "robustKernel", toString(robustKernel)),
-							 {RobustKernel::PerfectMatch, RobustKernel::None, RobustKernel::Huber});
-	sigma = c.read_double(s, "sigma", sigma);
-	maxIterations = static_cast<unsigned>(c.read_int(s, "maxIterations", static_cast<int>(maxIterations)));
-	rpropInitialStepXY = c.read_double(s, "rpropInitialStepXY", rpropInitialStepXY);
-	rpropInitialStepPhi = c.read_double(s, "rpropInitialStepPhi", rpropInitialStepPhi);
-	rpropIncrease = c.read_double(s, "rpropIncrease", rpropIncrease);
-	rpropDecrease = c.read_double(s, "rpropDecrease", rpropDecrease);
-	rpropMaxStepXY = c.read_double(s, "rpropMaxStepXY", rpropMaxStepXY);
-	rpropMaxStepPhi = c.read_double(s, "rpropMaxStepPhi", rpropMaxStepPhi);
-	rpropRefineIterations =
-		static_cast<unsigned>(c.read_int(s, "rpropRefineIterations", static_cast<int>(rpropRefineIterations)));
-	rpropPatience = static_cast<unsigned>(c.read_int(s, "rpropPatience", static_cast<int>(rpropPatience)));
-	minStepXY = c.read_double(s, "minStepXY", minStepXY);
-	minStepPhi = c.read_double(s, "minStepPhi", minStepPhi);
-	decimation = static_cast<unsigned>(c.read_int(s, "decimation", static_cast<int>(decimation)));
-	maxDistance = c.read_double(s, "maxDistance", maxDistance);
-	occupiedThreshold = c.read_double(s, "occupiedThreshold", occupiedThreshold);
-	useInitialCovarianceAsPrior = c.read_bool(s, "useInitialCovarianceAsPrior", useInitialCovarianceAsPrior);
-
-	requireRange("sigma", sigma, 1e-4, 10);
-	requireRange("maxIterations", maxIterations, 1, 10000);
-	requireRange("rpropInitialStepXY", rpropInitialStepXY, 1e-6, 10);
-	requireRange("rpropInitialStepPhi", rpropInitialStepPhi, 1e-6, 3);
-	requireRange("rpropIncrease", rpropIncrease, 1.0, 10);
-	requireRange("rpropDecrease", rpropDecrease, 0.01, 1.0);
-	requireRange("rpropMaxStepXY", rpropMaxStepXY, 1e-6, 10);
-	requireRange("rpropMaxStepPhi", rpropMaxStepPhi, 1e-6, 3);
-	requireRange("rpropRefineIterations", rpropRefineIterations, 0, 100);
-	requireRange("rpropPatience", rpropPatience, 0, 10000);
-	requireRange("minStepXY", minStepXY, 0, 1);
-	requireRange("minStepPhi", minStepPhi, 0, 1);
-	requireRange("decimation", decimation, 1, 1000);
-	requireRange("maxDistance", maxDistance, 1e-3, 100);
-	requireRange("occupiedThreshold", occupiedThreshold, 0.01, 0.99);
-}
-
-void PerfectMatchMatcher::TConfigParams::dumpToTextStream(std::ostream& out) const
-{
-	out << "optimizer = " << toString(optimizer) << "\nrobustKernel = " << toString(robustKernel)
-		<< "\nsigma = " << sigma << "\nmaxIterations = " << maxIterations
-		<< "\nrpropInitialStepXY = " << rpropInitialStepXY << "\nrpropInitialStepPhi = " << rpropInitialStepPhi
-		<< "\nrpropIncrease = " << rpropIncrease << "\nrpropDecrease = " << rpropDecrease
-		<< "\nrpropMaxStepXY = " << rpropMaxStepXY << "\nrpropMaxStepPhi = " << rpropMaxStepPhi
-		<< "\nrpropRefineIterations = " << rpropRefineIterations << "\nrpropPatience = " << rpropPatience
-		<< "\nminStepXY = " << minStepXY << "\nminStepPhi = " << minStepPhi << "\ndecimation = " << decimation
-		<< "\nmaxDistance = " << maxDistance << "\noccupiedThreshold = " << occupiedThreshold
-		<< "\nuseInitialCovarianceAsPrior = " << useInitialCovarianceAsPrior << "\n";
-}
-
-namespace
-{
 /** Everything the optimisers need from one pass over the points. */
 struct Evaluation
 {
@@ -461,7 +383,6 @@ mrpt::math::TPose2D PerfectMatchMatcher::alignPoints(const DynamicDistanceMap& m
 		const Eigen::Vector3d maxStep(options.rpropMaxStepXY, options.rpropMaxStepXY, options.rpropMaxStepPhi);
 		const Eigen::Vector3d minStep(options.minStepXY, options.minStepXY, options.minStepPhi);
 		Eigen::Vector3d prevGrad = Eigen::Vector3d::Zero();
-		unsigned sinceBest = 0;
 		for (it = 0; it < options.maxIterations; ++it)
 		{
 			Eigen::Vector3d g = cur.gradient;
@@ -483,14 +404,9 @@ mrpt::math::TPose2D PerfectMatchMatcher::alignPoints(const DynamicDistanceMap& m
 			{
 				bestCost = cur.cost;
 				best = x;
-				sinceBest = 0;
 			}
-			else
-				++sinceBest;
-			// Converged: every step is tiny, or the best pose has not improved for a while
-			// (RPROP then only oscillates around it with shrinking steps).
-			if ((step.array() < minStep.array()).all() ||
-				(options.rpropPatience > 0 && sinceBest >= options.rpropPatience))
+			// Converged: every step is tiny.
+			if ((step.array() < minStep.array()).all())
 			{
 				++it;
 				break;

@@ -20,12 +20,17 @@ const std::set<std::string> kIgnoredKeys = {
 	"gasGrid_count", "landmarksMap_count", "likelihoodMapSelection", "matchAgainstTheGrid", "minICPgoodnessToAccept",
 	"occupancyGrid_count", "octoMap_count", "pointsMap_count", "wifiGrid_count", "colourPointsMap_count",
 	"weightedPointsMap_count", "heightMap_count", "reflectivityMap_count", "voxelMap_count"};
-// icp-slam [MappingApplication] key -> pmslam key of the same meaning and unit.
-const std::pair<const char*, const char*> kRenamed[] = {
-	{"localizationLinDistance", "insertionLinDistance"},	   // m: a scan is matched past this
-	{"localizationAngDistance", "insertionAngDistance_deg"},  // deg
-	{"insertionLinDistance", "mapInsertLinDistance"},		   // m: a scan goes into the map past this
-	{"insertionAngDistance", "mapInsertAngDistance_deg"},	   // deg
+// icp-slam [MappingApplication] key -> pmslam key of the same meaning and unit, and pmslam's older
+// name for that key (nullptr: none that is not also an icp-slam key).
+struct Renamed
+{
+	const char *first, *second, *pmslamOldName;
+};
+const Renamed kRenamed[] = {
+	{"localizationLinDistance", "matchLinDistance", nullptr},  // m: a scan is matched past this
+	{"localizationAngDistance", "matchAngDistance_deg", "insertionAngDistance_deg"},  // deg
+	{"insertionLinDistance", "mapInsertLinDistance", nullptr},	// m: a scan goes into the map past this
+	{"insertionAngDistance", "mapInsertAngDistance_deg", nullptr},	// deg
 };
 const char* kOwnSections[] = {"PerfectMatch", "LoopClosure", "Log"};
 
@@ -86,14 +91,12 @@ std::string translateIcpSlamConfig(const mrpt::config::CConfigFileBase& cfg,
 											  [&](const auto& r) { return k == r.first; });
 			if (renamed != std::end(kRenamed))
 			{
-				// In an icp-slam file insertionLinDistance is icp-slam's own (map insertion): only the
-				// other pmslam names can clash.
-				const bool targetIsIcpKey = std::any_of(std::begin(kRenamed), std::end(kRenamed), [&](const auto& r) {
-					return std::string(r.first) == renamed->second;
-				});
-				if (!targetIsIcpKey && std::find(keys.begin(), keys.end(), renamed->second) != keys.end())
-					throw ConfigError(source + ": [MappingApplication] " + k + " (icp-slam's name) and " + renamed->second +
-									  " (pmslam's) both set the same threshold: keep one");
+				// In an icp-slam file insertionLinDistance is icp-slam's own (map insertion): only
+				// pmslam's other names can clash.
+				for (const char* pmslamName : {renamed->second, renamed->pmslamOldName})
+					if (pmslamName && std::find(keys.begin(), keys.end(), pmslamName) != keys.end())
+						throw ConfigError(source + ": [MappingApplication] " + k + " (icp-slam's name) and " +
+										  pmslamName + " (pmslam's) both set the same threshold: keep one");
 				t.write(sec, renamed->second, v);
 				read.push_back(k + " as " + renamed->second);
 			}

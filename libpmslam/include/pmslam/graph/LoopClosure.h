@@ -129,6 +129,8 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	 * matches scored 0.74-0.87 for a while; its alignment to an earlier visit is no loop constraint). */
 	double revisitBelowTypical = 0.05;
 
+	/** Every INI key of this struct (ConfigKeys.h; LoopClosureKeys.cpp). */
+	static const std::vector<config::Key<LoopClosureOptions>>& keys();
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 	void dumpToTextStream(std::ostream& out) const override;
 };

@@ -36,6 +36,7 @@
 #include <pmslam/map/DynamicDistanceMap.h>
 #include <pmslam/map/SparseOccupancyGrid.h>
 #include <pmslam/sensor/ScanPoints.h>
+#include <pmslam/util/ConfigKeys.h>
 
 #include <cstdint>
 #include <utility>
@@ -51,20 +52,14 @@ struct OccupancyGridUpdateOptions : public mrpt::config::CLoadableOptions
 	double hitProbability = 0.7;  ///< inverse sensor model for a return
 	double missProbability = 0.45;  ///< inverse sensor model for a beam passing through
 	double clampProbability = 0.95;	 ///< evidence bound, both ways
-	/** Consecutive returns closer than this (m) are joined: the cells between them get
-	 * hit evidence too. A laser samples a wall at spots that spread with range; joining
-	 * them keeps far walls solid instead of dotted, so a later scan is not pulled toward
-	 * the dots (which biases the estimated motion toward zero). 0 disables. */
-	double joinHitsCloserThan = 0.0;
-	/** Free space is carved only along the last this-many metres of each beam (0 = the whole
-	 * beam). Cells near the robot are crossed by many beams, so little is lost; far beams cost
-	 * a cell visit per 5 cm each. */
-	double freeCarveLength = 0.0;
 	/** Free space stops this far (m) before each return (0 = up to the return's cell). A beam
 	 * that ends on a wall seen at a grazing angle passes through the cells just in front of its
 	 * end that hold the same wall; carving them makes walls flicker between scans. */
 	double freeCarveMarginBeforeHit = 0.1;
 	ScanPointsOptions scan;	 ///< min/max ranges and free-space carving of no-return beams
+
+	/** Every INI key of this struct (ConfigKeys.h): loading, dumping and the documentation. */
+	static const std::vector<config::Key<OccupancyGridUpdateOptions>>& keys();
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 	void dumpToTextStream(std::ostream& out) const override;

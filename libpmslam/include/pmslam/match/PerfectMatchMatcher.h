@@ -23,6 +23,7 @@
 #include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
 #include <pmslam/map/DynamicDistanceMap.h>
+#include <pmslam/util/ConfigKeys.h>
 
 #include <Eigen/Core>
 #include <cstddef>
@@ -64,18 +65,15 @@ class PerfectMatchMatcher
 		double rpropMaxStepXY = 0.2, rpropMaxStepPhi = 0.1;	 ///< RPROP step bounds (m, rad)
 		/** Gauss-Newton steps on the same cost after RPROP, to settle on the minimum (0 = pure RPROP). */
 		unsigned rpropRefineIterations = 0;
-		/** RPROP stops when the best cost has not improved for this many iterations (0 = never). */
-		unsigned rpropPatience = 0;
 		double minStepXY = 1e-4, minStepPhi = 1e-4;	 ///< converged when every step is below these
 		unsigned decimation = 1;  ///< use every k-th point of m2
 		/** PerfectMatchAligner with a stock COccupancyGridMap2D: truncation (m) of the distance layer
 		 * built on demand, and the occupancy probability above which a cell is an obstacle. */
 		double maxDistance = 0.5;
 		double occupiedThreshold = 0.5;
-		/** AlignPDF only: use the initial estimate's covariance (if positive definite) as a
-		 * Gaussian prior on the pose. Off by default, as CICP ignores it. */
-		bool useInitialCovarianceAsPrior = false;
 
+		/** Every INI key of this struct (ConfigKeys.h): loading, dumping and the documentation. */
+		static const std::vector<config::Key<TConfigParams>>& keys();
 		void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 		void dumpToTextStream(std::ostream& out) const override;
 	};

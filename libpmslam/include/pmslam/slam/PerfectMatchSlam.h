@@ -161,6 +161,8 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	bool keepSimpleMap = true;
 	OccupancyGridUpdateOptions grid;
 
+	/** Every INI key of this struct, the grid's included (ConfigKeys.h; MapBuilderKeys.cpp). */
+	static const std::vector<config::Key<MapBuilderOptions>>& keys();
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source, const std::string& section) override;
 	void dumpToTextStream(std::ostream& out) const override;
 };

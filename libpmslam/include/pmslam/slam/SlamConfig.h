@@ -1,20 +1,16 @@
 /* pmslam — the whole configuration of a SLAM run, from INI text.
  *
- * Sections (all optional; see config/default.ini for every key and default):
- *   [PerfectMatch]        the matcher (PerfectMatchMatcher::TConfigParams)
- *   [MappingApplication]  the builder and its grid (MapBuilderOptions)
- *   [Log]                 how logs are read (LogReaderOptions, odometry source)
- * An MRPT icp-slam file (an [ICP] section or icp-slam's own keys) is read in pmslam's terms: its
- * localizationLin/AngDistance are the matching thresholds (insertionLinDistance,
- * insertionAngDistance_deg), its insertionLin/AngDistance the map insertion ones
- * (mapInsertLinDistance, mapInsertAngDistance_deg), its grid resolution the grid's; rawlog_file and
- * logOutput_dir are kept for the program; [ICP], the other maps' sections and the display and
- * logging keys are ignored and named in a note (SlamConfig::notes); rawlog_offset other than 0 is an
- * error (pmslam maps the whole log).
- * Unknown sections and keys, values of the wrong type and values out of range
- * are errors (ConfigError, one line naming section, key and what was expected,
- * with the closest valid key as a suggestion): a typo must not silently fall
- * back to a default.
+ * Sections (all optional): [PerfectMatch] the matcher, [MappingApplication] the builder and its
+ * grid, [LoopClosure] the back-end, [Log] how logs are read. Every key is one descriptor
+ * (ConfigKeys.h) in the struct it configures; configKeys() lists them all with their section, and
+ * loading, checking, suggestions, config/default.ini (basic keys) and docs/configuration.md (every
+ * key) all come from that list (pm-slam-config prints both files).
+ * An MRPT icp-slam file (an [ICP] section or icp-slam's own keys) is read in pmslam's terms
+ * (IcpSlamDialect.h). Older key names are read under their new names, and removed keys are
+ * ignored, each with a note (SlamConfig::notes). Unknown sections and keys, values of the wrong
+ * type and values out of range are errors (ConfigError, one line naming section, key and what
+ * was expected, with the closest valid key, in any section, as a suggestion): a typo must not
+ * silently fall back to a default.
  */
 #pragma once
 
@@ -62,7 +58,31 @@ SlamConfig loadSlamConfig(const std::string& iniPath, const std::vector<std::str
 SlamConfig parseSlamConfig(const std::string& iniText, const std::string& sourceName,
 						   const std::vector<std::string>& overrides = {});
 
+/** One INI key of a SLAM run: its section and its descriptor over the whole SlamConfig. */
+struct ConfigKey
+{
+	std::string section;
+	config::Key<SlamConfig> key;
+};
+/** Every key, in the order of config/default.ini and docs/configuration.md. */
+const std::vector<ConfigKey>& configKeys();
+
+/** A key that no longer exists: an INI naming it gets a note, not an error. */
+struct RemovedConfigKey
+{
+	const char* section;
+	const char* name;
+	const char* why;
+};
+const std::vector<RemovedConfigKey>& removedConfigKeys();
+
 /** Every valid "Section.key", for documentation and suggestions. */
 std::vector<std::string> knownConfigKeys();
+
+/** `c` as INI text with each key's one-line doc: the basic keys (config/default.ini is this for
+ * the defaults), or every key with `all`. */
+std::string configAsIni(const SlamConfig& c, bool all);
+/** docs/configuration.md: every key with its default, unit, range, level and doc. */
+std::string configAsMarkdown();
 
 }  // namespace pmslam
