@@ -203,7 +203,7 @@ TEST(BadInput, ConfigWrongTypeAndOutOfRange)
 	const std::string tail = " --out " + quote(d.path("out")) + " " + quote(log);
 	expectRefusal(app("--set PerfectMatch.sigma=abc" + tail), {"[PerfectMatch] sigma = 'abc'", "expected a number"});
 	expectRefusal(app("--set PerfectMatch.sigma=-1" + tail), {"[PerfectMatch] sigma", "expected a value in"});
-	expectRefusal(app("--set MappingApplication.resolution=5" + tail), {"resolution", "expected 0.005..2 m"});
+	expectRefusal(app("--set MappingApplication.resolution=5" + tail), {"resolution = '5'", "expected a value in 0.005..2 m"});
 	expectRefusal(app("--set MappingApplication.keepSimpleMap=maybe" + tail), {"keepSimpleMap", "true or false"});
 	expectRefusal(app("--set Log.odometrySource=gps" + tail), {"odometrySource = 'gps'", "auto, scan, events"});
 	expectRefusal(app("--set Log.noReturnRange=0" + tail), {"noReturnRange", "> 0"});
@@ -213,7 +213,7 @@ TEST(BadInput, ConfigWrongTypeAndOutOfRange)
 	expectRefusal(app("--set PerfectMatch.maxIterations=99999999999" + tail), {"maxIterations", "whole number"});
 	expectRefusal(app("--set sigma" + tail), {"--set 'sigma'", "expected SECTION.KEY=VALUE"});
 	const auto ini = d.write("bad.ini", "[MappingApplication]\nminGoodness = 2\n");
-	expectRefusal(app("--config " + quote(ini) + tail), {ini, "minGoodness", "expected 0..1"});
+	expectRefusal(app("--config " + quote(ini) + tail), {ini, "minGoodness = '2'", "expected a value in 0..1"});
 	// MRPT's own INI syntax errors (its $eval{...} expansion) are configuration errors too.
 	const auto ini2 = d.write("eval.ini", "[PerfectMatch]\nsigma = $eval{0.05\n");
 	expectRefusal(app("--config " + quote(ini2) + tail), {ini2 + ": "});
