@@ -5,7 +5,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="${1:-$here/build}"; shift || true
 
-packages=(build-essential cmake libmrpt-dev libmrpt-graphslam-dev libmrpt-hwdrivers-dev libceres-dev libpng-dev zlib1g-dev mrpt-apps mrpt-common libeigen3-dev libgtest-dev googletest libbenchmark-dev gnuplot-nox
+packages=(build-essential cmake libmrpt-dev libmrpt-graphslam-dev libmrpt-hwdrivers-dev libceres-dev libpng-dev zlib1g-dev libbz2-dev mrpt-apps mrpt-common libeigen3-dev libgtest-dev googletest libbenchmark-dev gnuplot-nox
           xvfb xauth xdotool)  # the last three: the --gui test in a virtual X server
 missing=()
 for p in "${packages[@]}"; do

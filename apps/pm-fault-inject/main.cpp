@@ -12,16 +12,18 @@
  *             return 0.5–3 m
  *   kidnap    the robot is carried --metres M: its odometry stands still while the scans move
  * FLASER/RLASER (laser and odometry poses) and ODOM lines are rewritten; other lines pass unchanged.
+ * IN may be gz- or bzip2-compressed (.clf.gz, .clf.bz2), as pm-slam-app reads it; OUT is plain text. A
+ * compressed IN damaged part way is used up to the damage, with a warning.
  * The places chosen are written to stderr, one line each ("fault KIND at t=… (scan #…)").
  * Exit status: 0 done, 2 bad arguments or unreadable input.
  */
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/io/AtomicFile.h>
+#include <pmslam/io/TextLineReader.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
 #include <random>
 #include <set>
@@ -73,17 +75,39 @@ void setPose(Line& l, std::size_t i, const mrpt::poses::CPose2D& p)
 	l.tok[i + 2] = fmt(p.phi());
 }
 mrpt::poses::CPose2D inverse(const mrpt::poses::CPose2D& p) { return mrpt::poses::CPose2D() - p; }
+/** The next line of `f` into `s`; false at its end. Damage after `linesRead` lines: a warning and false (none
+ * read: an error). */
+bool nextLine(pmslam::TextLineReader& f, const std::string& in, std::size_t linesRead, std::string& s)
+{
+	try
+	{
+		return f.getline(s);
+	}
+	catch (const std::exception& e)
+	{
+		const std::string where = in + ":" + std::to_string(linesRead + 1) + ": read error (" + e.what() + ")";
+		if (linesRead == 0) fail("cannot read " + where);
+		std::cerr << "pm-fault-inject: warning: " << where << ", the " << linesRead << " lines before it are used\n";
+		return false;
+	}
+}
+
 // Index of the odometry pose in a line (the raw odometry of a scan line).
 std::size_t odomIndex(const Line& l) { return l.scan ? 5 + l.n : 1; }
-}  // namespace
 
-int main(int argc, char** argv)
+struct Options
 {
 	std::string kind, in, out;
 	int count = 1;
 	unsigned seed = 1;
 	double headLo = 18, headHi = 30, lateral = 0.3, seconds = 20, fraction = 0.3, metres = 3;
 	int scansOut = 50, beams = 8;
+};
+
+/** The command line; exits on a bad one (2) or after --help (0). */
+Options parseOptions(int argc, char** argv)
+{
+	Options o;
 	std::vector<std::string> pos;
 	for (int i = 1; i < argc; ++i)
 	{
@@ -92,44 +116,49 @@ int main(int argc, char** argv)
 			if (i + 1 >= argc) fail(a + " needs a value");
 			return argv[++i];
 		};
-		if (a == "--fault") kind = val();
-		else if (a == "--count") count = int(number(a, val()));
-		else if (a == "--seed") seed = unsigned(number(a, val()));
+		if (a == "--fault") o.kind = val();
+		else if (a == "--count") o.count = int(number(a, val()));
+		else if (a == "--seed") o.seed = unsigned(number(a, val()));
 		else if (a == "--heading-deg")
 		{
 			const std::string v = val();
 			const auto c = v.find(':');
-			headLo = number(a, v.substr(0, c));
-			headHi = c == std::string::npos ? headLo : number(a, v.substr(c + 1));
+			o.headLo = number(a, v.substr(0, c));
+			o.headHi = c == std::string::npos ? o.headLo : number(a, v.substr(c + 1));
 		}
-		else if (a == "--lateral") lateral = number(a, val());
-		else if (a == "--scans") scansOut = int(number(a, val()));
-		else if (a == "--seconds") seconds = number(a, val());
-		else if (a == "--fraction") fraction = number(a, val());
-		else if (a == "--beams") beams = int(number(a, val()));
-		else if (a == "--metres") metres = number(a, val());
+		else if (a == "--lateral") o.lateral = number(a, val());
+		else if (a == "--scans") o.scansOut = int(number(a, val()));
+		else if (a == "--seconds") o.seconds = number(a, val());
+		else if (a == "--fraction") o.fraction = number(a, val());
+		else if (a == "--beams") o.beams = int(number(a, val()));
+		else if (a == "--metres") o.metres = number(a, val());
 		else if (a == "-h" || a == "--help")
 		{
 			std::cout << "usage: pm-fault-inject --fault slip|dropout|gap|spurious|kidnap [--count N] [--seed S]\n"
 						 "  [--heading-deg LO:HI] [--lateral M] [--scans N] [--seconds S] [--fraction F] [--beams N]\n"
 						 "  [--metres M] IN.clf OUT.clf   (see the comment at the top of apps/pm-fault-inject/main.cpp)\n";
-			return 0;
+			std::exit(0);
 		}
 		else if (!a.empty() && a[0] == '-') fail("unknown option '" + a + "'");
 		else pos.push_back(a);
 	}
 	if (pos.size() != 2) fail("expected IN.clf OUT.clf (see --help)");
-	in = pos[0];
-	out = pos[1];
+	o.in = pos[0];
+	o.out = pos[1];
 	const std::set<std::string> kinds{"slip", "dropout", "gap", "spurious", "kidnap"};
-	if (!kinds.count(kind)) fail("--fault '" + kind + "': expected slip, dropout, gap, spurious or kidnap");
-	if (count < 1) fail("--count: expected >= 1");
+	if (!kinds.count(o.kind)) fail("--fault '" + o.kind + "': expected slip, dropout, gap, spurious or kidnap");
+	if (o.count < 1) fail("--count: expected >= 1");
+	return o;
+}
 
-	std::ifstream f(in);
-	if (!f) fail("cannot read '" + in + "'");
+/** The lines of the log `in`, split into words, its scan and odometry lines recognised; `scans` gets the
+ * indices of the scan lines. Exits if it cannot be read. */
+std::vector<Line> readLog(const std::string& in, std::vector<std::size_t>& scans)
+{
+	pmslam::TextLineReader f;
+	if (!f.open(in)) fail("cannot read '" + in + "'");
 	std::vector<Line> lines;
-	std::vector<std::size_t> scans;	 // indices of scan lines
-	for (std::string s; std::getline(f, s);)
+	for (std::string s; nextLine(f, in, lines.size(), s);)
 	{
 		Line l;
 		l.text = s;
@@ -159,15 +188,24 @@ int main(int argc, char** argv)
 		}
 		lines.push_back(std::move(l));
 	}
-	if (scans.size() < 100) fail("'" + in + "' has " + std::to_string(scans.size()) + " laser scans: expected at least 100");
+	return lines;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	const Options opt = parseOptions(argc, argv);
+	std::vector<std::size_t> scans;	 // indices of scan lines
+	std::vector<Line> lines = readLog(opt.in, scans);
+	if (scans.size() < 100) fail("'" + opt.in + "' has " + std::to_string(scans.size()) + " laser scans: expected at least 100");
+	std::mt19937 rng(opt.seed);
 
 	// Places: one per equal slice of the middle 90 % of the scans, drawn inside its slice.
-	std::mt19937 rng(seed);
 	auto uniform = [&]() { return (rng() >> 8) * (1.0 / 16777216.0); };	// same on every platform
 	std::vector<std::size_t> at;  // scan numbers
-	const double lo = 0.05 * scans.size(), width = 0.9 * scans.size() / count;
-	if (kind != "spurious")
-		for (int k = 0; k < count; ++k) at.push_back(std::size_t(lo + width * (k + 0.25 + 0.5 * uniform())));
+	const double lo = 0.05 * scans.size(), width = 0.9 * scans.size() / opt.count;
+	if (opt.kind != "spurious")
+		for (int k = 0; k < opt.count; ++k) at.push_back(std::size_t(lo + width * (k + 0.25 + 0.5 * uniform())));
 
 	mrpt::poses::CPose2D C;	 // correction applied to every odometry pose from here on
 	std::size_t next = 0;
@@ -194,22 +232,22 @@ int main(int argc, char** argv)
 			if (next < at.size() && scanNo == at[next])
 			{
 				++next;
-				std::cerr << "fault " << kind << " at t=" << fmt(l.t) << " (scan #" << scanNo << ")\n";
-				if (kind == "slip")
+				std::cerr << "fault " << opt.kind << " at t=" << fmt(l.t) << " (scan #" << scanNo << ")\n";
+				if (opt.kind == "slip")
 				{
-					const double h = (headLo + (headHi - headLo) * uniform()) * (uniform() < 0.5 ? -1 : 1);
-					const double side = lateral * (uniform() < 0.5 ? -1 : 1);
+					const double h = (opt.headLo + (opt.headHi - opt.headLo) * uniform()) * (uniform() < 0.5 ? -1 : 1);
+					const double side = opt.lateral * (uniform() < 0.5 ? -1 : 1);
 					C = C + raw + mrpt::poses::CPose2D(0, side, h * M_PI / 180) + inverse(raw);
 				}
-				else if (kind == "dropout") dropLeft = scansOut;
-				else if (kind == "gap")
+				else if (opt.kind == "dropout") dropLeft = opt.scansOut;
+				else if (opt.kind == "gap")
 				{
-					gapUntil = l.t + seconds;
+					gapUntil = l.t + opt.seconds;
 					l.keep = false;
 					++scanNo;
 					continue;
 				}
-				else if (kind == "kidnap")
+				else if (opt.kind == "kidnap")
 				{
 					frozen = true;
 					frozenAt = raw;
@@ -221,18 +259,18 @@ int main(int argc, char** argv)
 				--dropLeft;
 				l.keep = false;
 			}
-			if (kind == "spurious" && uniform() < fraction && int(l.n) > beams)
+			if (opt.kind == "spurious" && uniform() < opt.fraction && int(l.n) > opt.beams)
 			{
-				const std::size_t b0 = std::size_t(uniform() * (l.n - beams));
+				const std::size_t b0 = std::size_t(uniform() * (l.n - opt.beams));
 				const double r0 = 0.5 + 2.5 * uniform();
-				for (int b = 0; b < beams; ++b) l.tok[2 + b0 + b] = fmt(r0 + 0.05 * (uniform() - 0.5));
+				for (int b = 0; b < opt.beams; ++b) l.tok[2 + b0 + b] = fmt(r0 + 0.05 * (uniform() - 0.5));
 			}
 			++scanNo;
 		}
 		if (frozen && haveLast) carried += (raw - lastRaw).norm();
 		lastRaw = raw;
 		haveLast = true;
-		if (frozen && carried >= metres)
+		if (frozen && carried >= opt.metres)
 		{
 			frozen = false;
 			C = C + frozenAt + inverse(raw);	// odometry resumes from where it stood
@@ -250,7 +288,7 @@ int main(int argc, char** argv)
 	}
 	try
 	{
-		pmslam::writeFileAtomically(out, [&](std::ostream& o) {
+		pmslam::writeFileAtomically(opt.out, [&](std::ostream& o) {
 			for (const auto& l : lines)
 				if (l.keep) o << l.text << "\n";
 		});

@@ -4,7 +4,9 @@
 #include <pmslam/eval/RelativePoseEvaluation.h>
 #include <pmslam/io/Trajectory.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -13,18 +15,21 @@
 namespace
 {
 const char* kUsage =
-	"usage: pm-slam-eval [--carmen-out FILE] [--json] TRAJECTORY RELATIONS\n"
+	"usage: pm-slam-eval [--carmen-out FILE] [--json] [--max-time-offset S] TRAJECTORY RELATIONS\n"
 	"\n"
 	"Scores TRAJECTORY (lines 'timestamp x y yaw', as written by pm-slam-app) against\n"
 	"RELATIONS (Freiburg '.relations': 't1 t2 x y z roll pitch yaw') with the relative\n"
-	"pose metric of Kuemmerle et al. 2009. Relation timestamps must equal pose timestamps\n"
-	"(tolerance 1e-6 s).\n"
+	"pose metric of Kuemmerle et al. 2009. Each relation timestamp takes the pose with the\n"
+	"nearest timestamp within --max-time-offset (a relation with a stamp farther from every\n"
+	"pose is missing); how far the matched stamps were is printed with the errors.\n"
 	"\n"
 	"options (anywhere on the command line):\n"
-	"  --carmen-out FILE  also write the trajectory as a Carmen log (FLASER lines with\n"
-	"                     zero readings) for the Freiburg metricEvaluator\n"
-	"  --json             print one JSON object with all the numbers instead of text\n"
-	"  -h, --help         print this help and exit\n"
+	"  --carmen-out FILE    also write the trajectory as a Carmen log (FLASER lines with\n"
+	"                       zero readings) for the Freiburg metricEvaluator\n"
+	"  --json               print one JSON object with all the numbers instead of text\n"
+	"  --max-time-offset S  farthest a relation timestamp may be from its pose's, in seconds\n"
+	"                       (default 0.1, as the metricEvaluator)\n"
+	"  -h, --help           print this help and exit\n"
 	"\n"
 	"exit status: 0 success, 2 bad arguments, unreadable or malformed input, or no\n"
 	"relation matched a pose.\n";
@@ -69,86 +74,128 @@ std::string num(double v)
 	std::snprintf(buf, sizeof(buf), "%.9g", v);
 	return buf;
 }
-}  // namespace
 
-int main(int argc, char** argv)
+struct Arguments
 {
 	std::string carmenOut;
 	bool json = false;
+	double maxTimeOffset = pmslam::kDefaultMaxTimeOffset;
 	std::vector<std::string> positional;
+	bool help = false;
+};
+
+/** A value of --carmen-out / --max-time-offset, given as the next argument or after '='; "" if none. */
+std::string optionValue(const std::string& name, int argc, char** argv, int& i)
+{
+	const std::string a = argv[i];
+	if (a.size() > name.size()) return a.substr(name.size() + 1);	// --name=value
+	return i + 1 < argc ? argv[++i] : "";
+}
+
+/** Parses the command line into `args`; "" or the message of a bad argument. */
+std::string parseArguments(int argc, char** argv, Arguments& args)
+{
 	bool endOfOptions = false;
 	for (int i = 1; i < argc; ++i)
 	{
 		const std::string a = argv[i];
+		const auto is = [&](const std::string& name) { return a == name || a.rfind(name + "=", 0) == 0; };
 		if (endOfOptions || a.empty() || a[0] != '-' || a == "-")
-			positional.push_back(a);
+			args.positional.push_back(a);
 		else if (a == "--")
 			endOfOptions = true;
 		else if (a == "-h" || a == "--help")
 		{
-			std::cout << kUsage;
-			return 0;
+			args.help = true;
+			return "";
 		}
 		else if (a == "--json")
-			json = true;
-		else if (a == "--carmen-out")
+			args.json = true;
+		else if (is("--carmen-out"))
 		{
-			if (i + 1 >= argc || argv[i + 1][0] == '\0')
-				return fail("--carmen-out expects a FILE (see --help)");
-			carmenOut = argv[++i];
+			args.carmenOut = optionValue("--carmen-out", argc, argv, i);
+			if (args.carmenOut.empty()) return "--carmen-out expects a FILE (see --help)";
 		}
-		else if (a.rfind("--carmen-out=", 0) == 0)
+		else if (is("--max-time-offset"))
 		{
-			carmenOut = a.substr(13);
-			if (carmenOut.empty()) return fail("--carmen-out expects a FILE (see --help)");
+			const std::string v = optionValue("--max-time-offset", argc, argv, i);
+			char* end = nullptr;
+			args.maxTimeOffset = std::strtod(v.c_str(), &end);
+			if (v.empty() || *end != '\0' || !std::isfinite(args.maxTimeOffset) || args.maxTimeOffset < 0)
+				return "--max-time-offset '" + v + "': expected seconds, a number >= 0 (see --help)";
 		}
 		else
-			return fail("unknown option '" + a + "' (see --help)");
+			return "unknown option '" + a + "' (see --help)";
 	}
-	if (positional.size() != 2)
-		return fail("expected 2 arguments TRAJECTORY RELATIONS, got " + std::to_string(positional.size()) +
-					" (see --help)");
-	const std::string& trajPath = positional[0];
-	const std::string& relPath = positional[1];
+	if (args.positional.size() != 2)
+		return "expected 2 arguments TRAJECTORY RELATIONS, got " + std::to_string(args.positional.size()) +
+			   " (see --help)";
+	return "";
+}
 
+void printJson(const Arguments& args, std::size_t poses, std::size_t relations, const pmslam::RelativePoseErrors& e)
+{
+	std::cout << "{\"trajectory\": " << jsonString(args.positional[0])
+			  << ", \"relations_file\": " << jsonString(args.positional[1]) << ", \"poses\": " << poses
+			  << ", \"relations\": " << relations << ", \"matched\": " << e.matched << ", \"missing\": " << e.missing
+			  << ", \"trans_mean_m\": " << num(e.transMean) << ", \"trans_std_m\": " << num(e.transStd)
+			  << ", \"trans_mean_sq_m2\": " << num(e.transMeanSq) << ", \"trans_max_m\": " << num(e.transMax)
+			  << ", \"rot_mean_deg\": " << num(e.rotMeanDeg) << ", \"rot_std_deg\": " << num(e.rotStdDeg)
+			  << ", \"rot_mean_sq_deg2\": " << num(e.rotMeanSqDeg2) << ", \"rot_max_deg\": " << num(e.rotMaxDeg)
+			  << ", \"max_time_offset_s\": " << num(args.maxTimeOffset)
+			  << ", \"time_offset_max_s\": " << num(e.timeOffsetMax)
+			  << ", \"time_offset_mean_s\": " << num(e.timeOffsetMean) << ", \"inexact_stamps\": " << e.inexactStamps
+			  << "}" << std::endl;
+}
+
+void printText(const Arguments& args, std::size_t poses, std::size_t relations, const pmslam::RelativePoseErrors& e)
+{
+	char buf[256];
+	std::cout << "trajectory: " << args.positional[0] << " (" << poses << " poses)\n"
+			  << "relations:  " << args.positional[1] << " (" << relations << " relations)\n"
+			  << "relations matched: " << e.matched << ", missing: " << e.missing << "\n";
+	std::snprintf(buf, sizeof(buf), "translational error [m]: %.4f +/- %.4f, mean of squares %.6f m^2, max %.4f\n",
+				  e.transMean, e.transStd, e.transMeanSq, e.transMax);
+	std::cout << buf;
+	std::snprintf(buf, sizeof(buf), "rotational error [deg]:  %.3f +/- %.3f, mean of squares %.4f deg^2, max %.3f\n",
+				  e.rotMeanDeg, e.rotStdDeg, e.rotMeanSqDeg2, e.rotMaxDeg);
+	std::cout << buf;
+	std::snprintf(buf, sizeof(buf),
+				  "time offset of the matched stamps [s]: max %.6f, mean %.6f; %zu of %zu not exact (> 1e-6 s), "
+				  "%g allowed\n",
+				  e.timeOffsetMax, e.timeOffsetMean, e.inexactStamps, 2 * e.matched, args.maxTimeOffset);
+	std::cout << buf << std::flush;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	Arguments args;
+	const std::string bad = parseArguments(argc, argv, args);
+	if (args.help)
+	{
+		std::cout << kUsage;
+		return 0;
+	}
+	if (!bad.empty()) return fail(bad);
+	const std::string& trajPath = args.positional[0];
+	const std::string& relPath = args.positional[1];
 	try
 	{
 		const pmslam::Trajectory traj = pmslam::loadTrajectory(trajPath);
 		const std::vector<pmslam::Relation> relations = pmslam::loadRelations(relPath);
-		if (!carmenOut.empty()) pmslam::writeCarmenLog(carmenOut, traj);
+		if (!args.carmenOut.empty()) pmslam::writeCarmenLog(args.carmenOut, traj);
 
-		const pmslam::RelativePoseErrors e = pmslam::evaluateRelativePoses(traj, relations);
+		const pmslam::RelativePoseErrors e = pmslam::evaluateRelativePoses(traj, relations, args.maxTimeOffset);
 		if (e.matched == 0)
 			return fail("no relation of " + relPath + " (" + std::to_string(relations.size()) +
 						" relations) matched two poses of " + trajPath + " (" + std::to_string(traj.size()) +
-						" poses); expected pose timestamps equal to the relations' t1/t2 within 1e-6 s");
-
-		if (json)
-		{
-			std::cout << "{\"trajectory\": " << jsonString(trajPath) << ", \"relations_file\": " << jsonString(relPath)
-					  << ", \"poses\": " << traj.size() << ", \"relations\": " << relations.size()
-					  << ", \"matched\": " << e.matched << ", \"missing\": " << e.missing
-					  << ", \"trans_mean_m\": " << num(e.transMean) << ", \"trans_std_m\": " << num(e.transStd)
-					  << ", \"trans_mean_sq_m2\": " << num(e.transMeanSq) << ", \"trans_max_m\": " << num(e.transMax)
-					  << ", \"rot_mean_deg\": " << num(e.rotMeanDeg) << ", \"rot_std_deg\": " << num(e.rotStdDeg)
-					  << ", \"rot_mean_sq_deg2\": " << num(e.rotMeanSqDeg2) << ", \"rot_max_deg\": " << num(e.rotMaxDeg)
-					  << "}" << std::endl;
-		}
+						" poses); expected pose timestamps within " + num(args.maxTimeOffset) +
+						" s of the relations' t1/t2 (--max-time-offset)");
+		if (args.json)
+			printJson(args, traj.size(), relations.size(), e);
 		else
-		{
-			char buf[256];
-			std::cout << "trajectory: " << trajPath << " (" << traj.size() << " poses)\n"
-					  << "relations:  " << relPath << " (" << relations.size() << " relations)\n"
-					  << "relations matched: " << e.matched << ", missing: " << e.missing << "\n";
-			std::snprintf(buf, sizeof(buf),
-						  "translational error [m]: %.4f +/- %.4f, mean of squares %.6f m^2, max %.4f\n",
-						  e.transMean, e.transStd, e.transMeanSq, e.transMax);
-			std::cout << buf;
-			std::snprintf(buf, sizeof(buf),
-						  "rotational error [deg]:  %.3f +/- %.3f, mean of squares %.4f deg^2, max %.3f\n",
-						  e.rotMeanDeg, e.rotStdDeg, e.rotMeanSqDeg2, e.rotMaxDeg);
-			std::cout << buf << std::flush;
-		}
+			printText(args, traj.size(), relations.size(), e);
 		if (!std::cout) return fail("cannot write to standard output");
 	}
 	catch (const std::exception& ex)

@@ -69,6 +69,18 @@ class TimeIndex
 	std::vector<std::size_t> m_order;
 };
 
+/** Max, mean and inexact count of the time offsets of the matched stamps. */
+void offsetStatistics(const std::vector<double>& offsets, RelativePoseErrors& r)
+{
+	for (double d : offsets)
+	{
+		r.timeOffsetMax = std::max(r.timeOffsetMax, d);
+		r.timeOffsetMean += d;
+		if (d > kExactTimeOffset) ++r.inexactStamps;
+	}
+	if (!offsets.empty()) r.timeOffsetMean /= static_cast<double>(offsets.size());
+}
+
 void statistics(const std::vector<double>& v, double& mean, double& stdev, double& meanSq, double& maxV)
 {
 	mean = stdev = meanSq = maxV = 0;
@@ -114,21 +126,26 @@ std::vector<Relation> loadRelations(const std::string& path)
 }
 
 RelativePoseErrors evaluateRelativePoses(const Trajectory& trajectory, const std::vector<Relation>& relations,
-										 double timeTolerance)
+										 double maxTimeOffset)
 {
 	RelativePoseErrors r;
 	const TimeIndex index(trajectory);
 	r.transErrors.reserve(relations.size());
 	r.rotErrorsDeg.reserve(relations.size());
-	for (const Relation& rel : relations)
+	std::vector<double> offsets;
+	for (std::size_t i = 0; i < relations.size(); ++i)
 	{
-		const TimedPose2D* p1 = index.find(rel.t1, timeTolerance);
-		const TimedPose2D* p2 = index.find(rel.t2, timeTolerance);
+		const Relation& rel = relations[i];
+		const TimedPose2D* p1 = index.find(rel.t1, maxTimeOffset);
+		const TimedPose2D* p2 = index.find(rel.t2, maxTimeOffset);
 		if (!p1 || !p2)
 		{
 			++r.missing;
 			continue;
 		}
+		offsets.push_back(std::abs(p1->timestamp - rel.t1));
+		offsets.push_back(std::abs(p2->timestamp - rel.t2));
+		r.matchedRelations.push_back(i);
 		const Pose delta = inverseCompose(Pose{p1->x, p1->y, p1->yaw}, Pose{p2->x, p2->y, p2->yaw});
 		const Pose e = inverseCompose(Pose{rel.x, rel.y, rel.yaw}, delta);
 		r.transErrors.push_back(std::hypot(e.x, e.y));
@@ -137,6 +154,7 @@ RelativePoseErrors evaluateRelativePoses(const Trajectory& trajectory, const std
 	}
 	statistics(r.transErrors, r.transMean, r.transStd, r.transMeanSq, r.transMax);
 	statistics(r.rotErrorsDeg, r.rotMeanDeg, r.rotStdDeg, r.rotMeanSqDeg2, r.rotMaxDeg);
+	offsetStatistics(offsets, r);
 	return r;
 }
 

@@ -1,6 +1,5 @@
 /* pmslam — Carmen log reader (see CarmenLogReader.h). */
 #include <mrpt/core/Clock.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -9,6 +8,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <pmslam/util/ExceptionText.h>
 #include <pmslam/io/CarmenLogReader.h>
+#include <pmslam/io/TextLineReader.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,50 +30,6 @@ constexpr double kMaxCoordinate = 1e7;
 constexpr double kMaxHeading = 1e3;
 /** A laser farther than this from the robot base (m) is not mounted on it. */
 constexpr double kMaxSensorOffset = 100.0;
-constexpr std::size_t kChunk = 1 << 16;
-
-/** Reads a (possibly gz-compressed) text file line by line. */
-class LineSource
-{
-   public:
-	bool open(const std::string& path) { return m_in.open(path); }
-
-	/** False at end of file. Throws std::exception on a read error. */
-	bool getline(std::string& line)
-	{
-		for (;;)
-		{
-			const std::size_t nl = m_buf.find('\n', m_pos);
-			if (nl != std::string::npos)
-			{
-				line.assign(m_buf, m_pos, nl - m_pos);
-				m_pos = nl + 1;
-				return true;
-			}
-			if (m_eof)
-			{
-				if (m_pos >= m_buf.size()) return false;
-				line.assign(m_buf, m_pos, std::string::npos);
-				m_pos = m_buf.size();
-				return true;
-			}
-			m_buf.erase(0, m_pos);
-			m_pos = 0;
-			char tmp[kChunk];
-			const std::size_t got = m_in.Read(tmp, sizeof(tmp));
-			if (got == 0)
-				m_eof = true;
-			else
-				m_buf.append(tmp, got);
-		}
-	}
-
-   private:
-	mrpt::io::CFileGZInputStream m_in;
-	std::string m_buf;
-	std::size_t m_pos = 0;
-	bool m_eof = false;
-};
 
 void splitFields(const std::string& line, std::vector<std::string>& out)
 {
@@ -128,12 +84,20 @@ struct SkipLine
 	std::string reason;
 };
 
+/** A laser line's text, validated: its ranges, its fan, and where its poses and timestamp are. */
+struct LaserText
+{
+	std::vector<float> r;
+	std::size_t rangesAt = 0, posesAt = 0, tsAt = 0;
+	double start = 0, step = 0, maxRange = 0;
+};
+
 }  // namespace
 
 struct CarmenLogReader::Impl
 {
 	LogReaderOptions opts;
-	LineSource src;
+	TextLineReader src;
 	std::size_t lineNo = 0;
 	bool done = false;
 	bool haveLatest = false;
@@ -196,6 +160,28 @@ struct CarmenLogReader::Impl
 		if (!haveLatest || ts > latestTs) latestTs = ts;
 		haveLatest = true;
 	}
+
+	enum class Line
+	{
+		Ignored,  ///< PARAM, SYNC, comments, unknown keywords; ODOM unless opts.useOdomLines
+		Odometry,
+		FrontLaser,
+		RearLaser,
+		RobotLaser
+	};
+	/** The next line into `line` (counted, split into f); false at the end of the file, or at a read error
+	 * that `error` then describes. */
+	bool readLine(std::string& line, std::string& error);
+	Line classify() const;
+	/** The event of the current line; these throw SkipLine if the line is damaged. */
+	LogEvent odometryEvent() const;
+	LogEvent scanEvent(const std::string& line, Line kind) const;
+	LaserText laserText() const;
+	LaserText robotLaserText() const;
+	double robotLaserStep(std::size_t n, double fov, double resolution) const;
+	mrpt::obs::CObservation2DRangeScan::Ptr importedScan(const std::string& line, const LaserText& text,
+														  const mrpt::math::TPose2D& robot,
+														  const mrpt::poses::CPose2D& rel) const;
 };
 
 CarmenLogReader::CarmenLogReader(const std::string& path, const LogReaderOptions& opts)
@@ -216,12 +202,12 @@ std::size_t CarmenLogReader::estimatedScanCount() const
 {
 	if (m_impl->counted) return m_impl->scanCount;
 	m_impl->counted = true;
+	std::size_t c = 0;
 	try
 	{
-		LineSource s;
+		TextLineReader s;
 		if (!s.open(m_path)) return 0;
 		std::string line;
-		std::size_t c = 0;
 		while (s.getline(line))
 		{
 			const auto b = line.find_first_not_of(" \t");
@@ -230,12 +216,13 @@ std::size_t CarmenLogReader::estimatedScanCount() const
 				line.compare(b, 12, "ROBOTLASER1 ") == 0)
 				++c;
 		}
-		m_impl->scanCount = c;
 	}
 	catch (const std::exception&)
 	{
+		// Damage: the scans before it are those next() delivers.
 	}
-	return m_impl->scanCount;
+	m_impl->scanCount = c;
+	return c;
 }
 
 namespace
@@ -295,170 +282,25 @@ bool anyValid(const mrpt::obs::CObservation2DRangeScan& scan)
 bool CarmenLogReader::next(LogEvent& ev)
 {
 	Impl& d = *m_impl;
-	if (d.done) return false;
 	std::string line;
-	std::vector<float> r;
-	for (;;)
+	while (!d.done)
 	{
-		try
+		std::string readError;
+		if (!d.readLine(line, readError))
 		{
-			if (!d.src.getline(line))
-			{
-				d.done = true;
-				return false;
-			}
-		}
-		catch (const std::exception& e)
-		{
-			warn(m_path + ":" + std::to_string(d.lineNo + 1) + ": read error (" + exceptionSummary(e.what()) +
-				 "), stopping");
 			d.done = true;
+			if (!readError.empty())
+				warn(m_path + ":" + std::to_string(d.lineNo + 1) + ": read error (" + readError + "), stopping");
 			return false;
 		}
-		++d.lineNo;
 		++m_stats.linesOrObjects;
-		splitFields(line, d.f);
-		if (d.f.empty()) continue;
-		const std::string& kw = d.f[0];
-		const bool isOdom = kw == "ODOM";
-		const bool isFront = kw == "FLASER";
-		const bool isRear = kw == "RLASER";
-		const bool isRobotLaser = kw == "ROBOTLASER1";
-		if (isOdom && !d.opts.useOdomLines) continue;
-		if (!isOdom && !isFront && !isRear && !isRobotLaser) continue;  // PARAM, SYNC, #..., unknown
-
+		const Impl::Line kind = d.classify();
+		if (kind == Impl::Line::Ignored) continue;
 		try
 		{
-			const auto& f = d.f;
-			if (isOdom)
-			{
-				// MRPT's importer ignores ODOM lines: parsed here.
-				// ODOM x y theta tv rv accel ipc_timestamp host logger_timestamp
-				if (f.size() != 10)
-					throw SkipLine{"ODOM line has " + std::to_string(f.size()) + " fields, expected 10"};
-				LogEvent e;
-				e.kind = LogEvent::Kind::Odometry;
-				e.odometry = mrpt::math::TPose2D(d.number(1, "x"), d.number(2, "y"), d.number(3, "theta"));
-				d.checkPose(e.odometry, "odometry pose");
-				for (std::size_t i = 4; i <= 6; ++i) d.number(i, "velocity field");
-				e.timestamp = d.number(7, "ipc_timestamp");
-				d.number(9, "logger_timestamp");
-				d.checkTimestamp(e.timestamp);
-				e.sourceIndex = d.lineNo;
-				d.accept(e.timestamp);
-				++m_stats.odometry;
-				ev = std::move(e);
-				return true;
-			}
-
-			// ---- laser lines: validate the text first ----
-			if (f.size() < 2) throw SkipLine{kw + " line without beam count"};
-			std::size_t n = 0, posesAt = 0, tsAt = 0;
-			double start = 0, step = 0, maxRange = d.opts.noReturnRange;
-			if (isRobotLaser)
-			{
-				if (f.size() < 10) throw SkipLine{"ROBOTLASER1 line has only " + std::to_string(f.size()) + " fields"};
-				n = d.count(8, "beam count", kMaxBeams);
-				if (n < 2) throw SkipLine{"beam count " + std::to_string(n) + " (need at least 2)"};
-				if (f.size() < 10 + n)
-					throw SkipLine{"beam count " + std::to_string(n) + " disagrees with the line (" +
-								   std::to_string(f.size()) + " fields)"};
-				const std::size_t m = d.count(9 + n, "remission count", kMaxBeams);
-				const std::size_t expected = n + m + 24;
-				if (f.size() != expected)
-					throw SkipLine{"beam count " + std::to_string(n) + " disagrees with the line (" +
-								   std::to_string(f.size()) + " fields, expected " + std::to_string(expected) + ")"};
-				d.number(1, "laser_type");
-				start = d.number(2, "start_angle");
-				const double fov = d.number(3, "field_of_view");
-				step = d.number(4, "angular_resolution");
-				const double lineMax = d.number(5, "maximum_range");
-				d.number(6, "accuracy");
-				d.number(7, "remission_mode");
-				if (!(step > 0))
-				{
-					if (!(fov > 0)) throw SkipLine{"no usable angular_resolution or field_of_view"};
-					step = fov / static_cast<double>(n - 1);
-				}
-				else if (fov > 0)
-				{
-					const double tol = 0.5 * step + 1e-6;
-					if (std::abs(fov - step * static_cast<double>(n - 1)) > tol &&
-						std::abs(fov - step * static_cast<double>(n)) > tol)
-						throw SkipLine{"beam count " + std::to_string(n) + " disagrees with field_of_view " +
-									   f[3] + " / angular_resolution " + f[4]};
-				}
-				if (lineMax > 0 && lineMax < maxRange) maxRange = lineMax;
-				d.ranges(9, n, r);
-				for (std::size_t i = 0; i < m; ++i) d.number(10 + n + i, "remission");
-				posesAt = 10 + n + m;
-				for (std::size_t i = posesAt + 6; i < posesAt + 11; ++i) d.number(i, "velocity field");
-				tsAt = posesAt + 11;
-			}
-			else
-			{
-				n = d.count(1, "beam count", kMaxBeams);
-				if (n < 2) throw SkipLine{"beam count " + std::to_string(n) + " (need at least 2)"};
-				const std::size_t expected = n + 11;
-				if (f.size() != expected)
-					throw SkipLine{"beam count " + std::to_string(n) + " disagrees with the line (" +
-								   std::to_string(f.size()) + " fields, expected " + std::to_string(expected) + ")"};
-				d.ranges(2, n, r);
-				step = flaserBeamStep(n);
-				start = -0.5 * M_PI;
-				posesAt = 2 + n;
-				tsAt = posesAt + 6;
-			}
-			const mrpt::math::TPose2D laser(d.number(posesAt, "laser x"), d.number(posesAt + 1, "laser y"),
-											d.number(posesAt + 2, "laser theta"));
-			const mrpt::math::TPose2D robot(d.number(posesAt + 3, "odometry x"), d.number(posesAt + 4, "odometry y"),
-											d.number(posesAt + 5, "odometry theta"));
-			const double ts = d.number(tsAt, "ipc_timestamp");
-			d.number(tsAt + 2, "logger_timestamp");
-			d.checkTimestamp(ts);
-			d.checkPose(laser, "laser pose");
-			d.checkPose(robot, "odometry pose");
-			const mrpt::poses::CPose2D rel(mrpt::poses::CPose2D(laser) - mrpt::poses::CPose2D(robot));
-			if (std::hypot(rel.x(), rel.y()) > kMaxSensorOffset)
-				throw SkipLine{"laser pose " + fmt6(std::hypot(rel.x(), rel.y())) + " m away from the odometry pose"};
-
-			// ---- MRPT's importer, then the corrections ----
-			mrpt::obs::CObservation2DRangeScan::Ptr scan;
-			mrpt::obs::CObservationOdometry::Ptr odo;
-			try
-			{
-				mrptParse(line, n, scan, odo);
-			}
-			catch (const std::exception& e)
-			{
-				throw SkipLine{"MRPT's Carmen importer rejected the line (" + exceptionSummary(e.what()) + ")"};
-			}
-			for (std::size_t i = 0; i < n; ++i)
-				if (std::abs(scan->getScanRange(i) - r[i]) > 1e-5f * std::max(1.0f, r[i]))
-					throw SkipLine{"MRPT's Carmen importer read beam " + std::to_string(i) + " as " +
-								   fmt6(scan->getScanRange(i)) + " instead of " + f[(isRobotLaser ? 9 : 2) + i]};
-			// MRPT computes the sensor offset as laser ⊖ odometry, i.e. the
-			// laser pose in the robot frame: right, kept (x, y, yaw).
-			const auto& sp = scan->sensorPose;
-			if (std::abs(sp.x() - rel.x()) > 1e-4 || std::abs(sp.y() - rel.y()) > 1e-4)
-				throw SkipLine{"MRPT's Carmen importer computed a different sensor offset"};
-			if (odo && (std::abs(odo->odometry.x() - robot.x) > 1e-4 || std::abs(odo->odometry.y() - robot.y) > 1e-4))
-				throw SkipLine{"MRPT's Carmen importer read a different odometry pose"};
-			double laserYaw = rel.phi();
-			if (isRear && std::abs(mrpt::math::wrapToPi(laserYaw)) < 0.5 * M_PI) laserYaw += M_PI;
-			finishScan(*scan, r, sp.x(), sp.y(), laserYaw, start, step, maxRange, ts);
-			if (!anyValid(*scan)) throw SkipLine{"scan has no valid beam"};
-
-			LogEvent e;
-			e.kind = LogEvent::Kind::Scan;
-			e.timestamp = ts;
-			e.scan = scan;
-			e.scanHasOdometry = true;
-			e.scanOdometry = robot;
-			e.sourceIndex = d.lineNo;
-			d.accept(ts);
-			++m_stats.scans;
-			ev = std::move(e);
+			ev = kind == Impl::Line::Odometry ? d.odometryEvent() : d.scanEvent(line, kind);
+			d.accept(ev.timestamp);
+			++(ev.kind == LogEvent::Kind::Scan ? m_stats.scans : m_stats.odometry);
 			return true;
 		}
 		catch (const SkipLine& s)
@@ -467,6 +309,192 @@ bool CarmenLogReader::next(LogEvent& ev)
 			warn(m_path + ":" + std::to_string(d.lineNo) + ": " + s.reason + ", skipped");
 		}
 	}
+	return false;
+}
+
+bool CarmenLogReader::Impl::readLine(std::string& line, std::string& error)
+{
+	try
+	{
+		if (!src.getline(line)) return false;
+	}
+	catch (const std::exception& e)
+	{
+		error = exceptionSummary(e.what());
+		return false;
+	}
+	++lineNo;
+	splitFields(line, f);
+	return true;
+}
+
+CarmenLogReader::Impl::Line CarmenLogReader::Impl::classify() const
+{
+	if (f.empty()) return Line::Ignored;
+	const std::string& kw = f[0];
+	if (kw == "ODOM") return opts.useOdomLines ? Line::Odometry : Line::Ignored;
+	if (kw == "FLASER") return Line::FrontLaser;
+	if (kw == "RLASER") return Line::RearLaser;
+	if (kw == "ROBOTLASER1") return Line::RobotLaser;
+	return Line::Ignored;
+}
+
+LogEvent CarmenLogReader::Impl::odometryEvent() const
+{
+	// MRPT's importer ignores ODOM lines: parsed here.
+	// ODOM x y theta tv rv accel ipc_timestamp host logger_timestamp
+	if (f.size() != 10) throw SkipLine{"ODOM line has " + std::to_string(f.size()) + " fields, expected 10"};
+	LogEvent e;
+	e.kind = LogEvent::Kind::Odometry;
+	e.odometry = mrpt::math::TPose2D(number(1, "x"), number(2, "y"), number(3, "theta"));
+	checkPose(e.odometry, "odometry pose");
+	for (std::size_t i = 4; i <= 6; ++i) number(i, "velocity field");
+	e.timestamp = number(7, "ipc_timestamp");
+	number(9, "logger_timestamp");
+	checkTimestamp(e.timestamp);
+	e.sourceIndex = lineNo;
+	return e;
+}
+
+LogEvent CarmenLogReader::Impl::scanEvent(const std::string& line, Line kind) const
+{
+	// The text is validated first, then read by MRPT's importer, whose result is checked against it and corrected.
+	if (f.size() < 2) throw SkipLine{f[0] + " line without beam count"};
+	const LaserText text = kind == Line::RobotLaser ? robotLaserText() : laserText();
+	const std::size_t at = text.posesAt;
+	const mrpt::math::TPose2D laser(number(at, "laser x"), number(at + 1, "laser y"), number(at + 2, "laser theta"));
+	const mrpt::math::TPose2D robot(number(at + 3, "odometry x"), number(at + 4, "odometry y"),
+									number(at + 5, "odometry theta"));
+	const double ts = number(text.tsAt, "ipc_timestamp");
+	number(text.tsAt + 2, "logger_timestamp");
+	checkTimestamp(ts);
+	checkPose(laser, "laser pose");
+	checkPose(robot, "odometry pose");
+	const mrpt::poses::CPose2D rel(mrpt::poses::CPose2D(laser) - mrpt::poses::CPose2D(robot));
+	if (std::hypot(rel.x(), rel.y()) > kMaxSensorOffset)
+		throw SkipLine{"laser pose " + fmt6(std::hypot(rel.x(), rel.y())) + " m away from the odometry pose"};
+
+	const mrpt::obs::CObservation2DRangeScan::Ptr scan = importedScan(line, text, robot, rel);
+	const auto& sp = scan->sensorPose;
+	double laserYaw = rel.phi();
+	if (kind == Line::RearLaser && std::abs(mrpt::math::wrapToPi(laserYaw)) < 0.5 * M_PI) laserYaw += M_PI;
+	finishScan(*scan, text.r, sp.x(), sp.y(), laserYaw, text.start, text.step, text.maxRange, ts);
+	if (!anyValid(*scan)) throw SkipLine{"scan has no valid beam"};
+
+	LogEvent e;
+	e.kind = LogEvent::Kind::Scan;
+	e.timestamp = ts;
+	e.scan = scan;
+	e.scanHasOdometry = true;
+	e.scanOdometry = robot;
+	e.sourceIndex = lineNo;
+	return e;
+}
+
+/** FLASER / RLASER n r1..rn lx ly lth ox oy oth ipc_timestamp host logger_timestamp */
+LaserText CarmenLogReader::Impl::laserText() const
+{
+	LaserText t;
+	const std::size_t n = count(1, "beam count", kMaxBeams);
+	if (n < 2) throw SkipLine{"beam count " + std::to_string(n) + " (need at least 2)"};
+	const std::size_t expected = n + 11;
+	if (f.size() != expected)
+		throw SkipLine{"beam count " + std::to_string(n) + " disagrees with the line (" + std::to_string(f.size()) +
+					   " fields, expected " + std::to_string(expected) + ")"};
+	ranges(2, n, t.r);
+	t.step = flaserBeamStep(n);
+	t.start = -0.5 * M_PI;
+	t.maxRange = opts.noReturnRange;
+	t.rangesAt = 2;
+	t.posesAt = 2 + n;
+	t.tsAt = t.posesAt + 6;
+	return t;
+}
+
+/** ROBOTLASER1 type start_angle fov resolution max_range accuracy remission_mode n r1..rn m e1..em
+ * lx ly lth ox oy oth tv rv fwd side turn ipc_timestamp host logger_timestamp */
+LaserText CarmenLogReader::Impl::robotLaserText() const
+{
+	if (f.size() < 10) throw SkipLine{"ROBOTLASER1 line has only " + std::to_string(f.size()) + " fields"};
+	const std::size_t n = count(8, "beam count", kMaxBeams);
+	if (n < 2) throw SkipLine{"beam count " + std::to_string(n) + " (need at least 2)"};
+	if (f.size() < 10 + n)
+		throw SkipLine{"beam count " + std::to_string(n) + " disagrees with the line (" + std::to_string(f.size()) +
+					   " fields)"};
+	const std::size_t m = count(9 + n, "remission count", kMaxBeams);
+	const std::size_t expected = n + m + 24;
+	if (f.size() != expected)
+		throw SkipLine{"beam count " + std::to_string(n) + " disagrees with the line (" + std::to_string(f.size()) +
+					   " fields, expected " + std::to_string(expected) + ")"};
+	LaserText t;
+	number(1, "laser_type");
+	t.start = number(2, "start_angle");
+	const double fov = number(3, "field_of_view");
+	const double resolution = number(4, "angular_resolution");
+	const double lineMax = number(5, "maximum_range");
+	number(6, "accuracy");
+	number(7, "remission_mode");
+	t.step = robotLaserStep(n, fov, resolution);
+	t.maxRange = opts.noReturnRange;
+	if (lineMax > 0 && lineMax < t.maxRange) t.maxRange = lineMax;
+	ranges(9, n, t.r);
+	for (std::size_t i = 0; i < m; ++i) number(10 + n + i, "remission");
+	t.rangesAt = 9;
+	t.posesAt = 10 + n + m;
+	for (std::size_t i = t.posesAt + 6; i < t.posesAt + 11; ++i) number(i, "velocity field");
+	t.tsAt = t.posesAt + 11;
+	return t;
+}
+
+/** ROBOTLASER1's beam step: its angular_resolution, or field_of_view / (n − 1) if it has none; when both are
+ * given they must agree with the n beams (a fan of n − 1 steps, or a full turn of n). */
+double CarmenLogReader::Impl::robotLaserStep(std::size_t n, double fov, double resolution) const
+{
+	if (!(resolution > 0))
+	{
+		if (!(fov > 0)) throw SkipLine{"no usable angular_resolution or field_of_view"};
+		return fov / static_cast<double>(n - 1);
+	}
+	if (fov > 0)
+	{
+		const double tol = 0.5 * resolution + 1e-6;
+		if (std::abs(fov - resolution * static_cast<double>(n - 1)) > tol &&
+			std::abs(fov - resolution * static_cast<double>(n)) > tol)
+			throw SkipLine{"beam count " + std::to_string(n) + " disagrees with field_of_view " + f[3] +
+						   " / angular_resolution " + f[4]};
+	}
+	return resolution;
+}
+
+/** The line through MRPT's importer, checked against the validated text: the same ranges, sensor offset
+ * (MRPT computes laser ⊖ odometry, the laser pose in the robot frame: right, kept) and odometry. */
+mrpt::obs::CObservation2DRangeScan::Ptr CarmenLogReader::Impl::importedScan(const std::string& line,
+																			const LaserText& text,
+																			const mrpt::math::TPose2D& robot,
+																			const mrpt::poses::CPose2D& rel) const
+{
+	const std::vector<float>& r = text.r;
+	const std::size_t n = r.size();
+	mrpt::obs::CObservation2DRangeScan::Ptr scan;
+	mrpt::obs::CObservationOdometry::Ptr odo;
+	try
+	{
+		mrptParse(line, n, scan, odo);
+	}
+	catch (const std::exception& e)
+	{
+		throw SkipLine{"MRPT's Carmen importer rejected the line (" + exceptionSummary(e.what()) + ")"};
+	}
+	for (std::size_t i = 0; i < n; ++i)
+		if (std::abs(scan->getScanRange(i) - r[i]) > 1e-5f * std::max(1.0f, r[i]))
+			throw SkipLine{"MRPT's Carmen importer read beam " + std::to_string(i) + " as " +
+						   fmt6(scan->getScanRange(i)) + " instead of " + f[text.rangesAt + i]};
+	const auto& sp = scan->sensorPose;
+	if (std::abs(sp.x() - rel.x()) > 1e-4 || std::abs(sp.y() - rel.y()) > 1e-4)
+		throw SkipLine{"MRPT's Carmen importer computed a different sensor offset"};
+	if (odo && (std::abs(odo->odometry.x() - robot.x) > 1e-4 || std::abs(odo->odometry.y() - robot.y) > 1e-4))
+		throw SkipLine{"MRPT's Carmen importer read a different odometry pose"};
+	return scan;
 }
 
 }  // namespace pmslam

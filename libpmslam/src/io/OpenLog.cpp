@@ -21,6 +21,7 @@
 #include <string>
 #include <system_error>
 
+#include "CompressedInput.h"
 #include "RawlogProbe.h"
 
 namespace pmslam
@@ -35,36 +36,37 @@ std::string lower(std::string s)
 	return s;
 }
 
-/** Extension of the file, lower case, ignoring a trailing ".gz". */
+/** Extension of the file, lower case, ignoring a trailing ".gz" or ".bz2". */
 std::string logExtension(const std::string& path)
 {
 	std::filesystem::path p(path);
 	std::string ext = lower(p.extension().string());
-	if (ext == ".gz") ext = lower(p.stem().extension().string());
+	if (ext == ".gz" || ext == ".bz2") ext = lower(p.stem().extension().string());
 	return ext;
 }
 
-/** Up to maxBytes of the (decompressed) start of the file. */
-std::string readHead(const std::string& path, std::size_t maxBytes)
+/** Up to maxBytes of the decompressed start of the file (plain, gzip or bzip2); `damage` says why it
+ * ends early if the file is damaged there. */
+std::string readHead(const std::string& path, std::size_t maxBytes, std::string& damage)
 {
-	std::string head;
+	std::string head(maxBytes, '\0');
+	std::size_t got = 0;
 	try
 	{
-		mrpt::io::CFileGZInputStream in;
-		if (!in.open(path)) return head;
-		head.resize(maxBytes);
-		std::size_t got = 0;
-		while (got < maxBytes)
-		{
-			const std::size_t r = in.Read(&head[got], maxBytes - got);
-			if (r == 0) break;
-			got += r;
-		}
-		head.resize(got);
+		detail::CompressedInput in;
+		if (in.open(path))
+			while (got < maxBytes)
+			{
+				const std::size_t r = in.read(&head[got], maxBytes - got);
+				if (r == 0) break;
+				got += r;
+			}
 	}
-	catch (const std::exception&)
+	catch (const std::exception& e)
 	{
+		damage = exceptionSummary(e.what());
 	}
+	head.resize(got);
 	return head;
 }
 
@@ -160,6 +162,9 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 		if (ext == ".clf" || ext == ".log" || ext == ".txt")
 			throw LogError("pmslam: '" + path + "' is named as a Carmen log: --follow reads MRPT rawlogs (as rawlog-grabber "
 						   "writes them)");
+		if (lower(std::filesystem::path(path).extension().string()) == ".bz2")
+			throw LogError("pmslam: '" + path + "' is named as a bzip2 file: --follow reads MRPT rawlogs (as rawlog-grabber "
+						   "writes them: plain or gz)");
 	}
 	const std::string expected = opts.follow ? "expected an MRPT .rawlog to follow" : kExpected;
 	std::error_code ec;
@@ -186,10 +191,17 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 		}
 	}
 
-	const std::string head = readHead(path, 1 << 16);
-	if (head.empty()) throw LogError("pmslam: log file '" + path + "' has no content, " + kExpected);
+	std::string damage;
+	const std::string head = readHead(path, 1 << 16, damage);
+	if (head.empty())
+		throw LogError("pmslam: log file '" + path + "' has no content" + (damage.empty() ? "" : " (" + damage + ")") +
+					   ", " + kExpected);
 	const bool text = looksLikeText(head);
 	const std::string ext = logExtension(path);
+	// MRPT reads rawlogs plain or gz only, and the rawlog reader reads them through MRPT (RawlogReader.h).
+	if (detail::compressionOf(path) == detail::Compression::Bzip2 && (!text || ext == ".rawlog"))
+		throw LogError("pmslam: '" + path + "' is bzip2-compressed but not a Carmen log: expected a Carmen log, or an " +
+					   "MRPT .rawlog plain or gz-compressed (MRPT reads no bzip2: bunzip2 the rawlog, or recompress it with gzip)");
 
 	// 1. Content: a Carmen keyword opening the first non-comment line.
 	if (text && isCarmenKeyword(firstKeyword(head))) return std::make_unique<CarmenLogReader>(path, opts);

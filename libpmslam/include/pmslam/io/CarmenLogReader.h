@@ -1,7 +1,7 @@
 /* pmslam — Perfect Match 2D laser SLAM on MRPT.
  *
- * CarmenLogReader: reads a Carmen text log (plain or gz-compressed) line by
- * line and turns FLASER, RLASER, ROBOTLASER1 and ODOM lines into LogEvent.
+ * CarmenLogReader: reads a Carmen text log (plain, gz- or bzip2-compressed:
+ * TextLineReader.h) line by line and turns FLASER, RLASER, ROBOTLASER1 and ODOM lines into LogEvent.
  * PARAM, SYNC, comments (#) and unknown keywords are ignored silently.
  *
  * Line layouts (whitespace separated):
@@ -48,6 +48,9 @@
  * Small backward steps are normal in Carmen logs (intel.clf: 631 FLASER lines
  * step back by up to 0.9 s, interleaved ODOM/FLASER lines by up to 0.9 s) and
  * are delivered unchanged, in file order.
+ * A compressed file damaged at some point (cut short, a corrupt block) is
+ * read up to the damage, then reading stops with one warning
+ * "file:line: read error (what), stopping".
  */
 #pragma once
 

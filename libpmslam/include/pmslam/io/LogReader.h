@@ -4,9 +4,11 @@
  * odometry and laser scans as a single time-ordered stream of LogEvent.
  *
  *  - CarmenLogReader: Carmen text logs (.clf/.log/.txt; FLASER, RLASER,
- *    ROBOTLASER1, ODOM lines), plain or gz-compressed.
+ *    ROBOTLASER1, ODOM lines), plain, gz- or bzip2-compressed (.clf.bz2, as
+ *    Radish distributes them).
  *  - RawlogReader: MRPT .rawlog files, plain or gz-compressed, in the
- *    action–observation or the observation-only format.
+ *    action–observation or the observation-only format. MRPT reads no bzip2:
+ *    a bzip2-compressed rawlog is refused with a message saying so.
  *
  * LogReader::open() picks the reader from the file's content (and extension).
  * It is defined in src/io/OpenLog.cpp, not LogReader.cpp: as the factory it
@@ -116,7 +118,7 @@ class LogReader
 	/** Opens by content/extension: .rawlog (plain or gz-compressed,
 	 * action–observation or observation-only), Carmen (.clf/.log/.txt, or
 	 * anything whose first non-comment line starts with a Carmen keyword; may
-	 * be gz-compressed). Throws pmslam::LogError with a one-line message
+	 * be gz- or bzip2-compressed, told by content). Throws pmslam::LogError with a one-line message
 	 * naming the file and what was expected: missing file, directory, empty
 	 * file, unknown format. With opts.follow the file is a rawlog still being
 	 * written (it may be empty yet; a Carmen log's name is refused). */
