@@ -8,10 +8,11 @@ keyframes' H^-1 between t1 and t2, propagated to t2 through the heading); the me
 e' S^-1 e over the median of a chi-square with 3 degrees of freedom (2.366) is the scale at which
 the graph's edges are honest.
 
-  PMSLAM_KEYFRAMES_DUMP=/tmp/kf.txt pm-slam-app --config config/default.ini LOG.clf --out OUT
+  PMSLAM_KEYFRAMES_DUMP=/tmp/kf.txt build/bin/pm-slam-app-instrumented --config config/default.ini LOG.clf --out OUT
   bench/calibrate_information.py /tmp/kf.txt OUT/trajectory_online.txt LOG.relations
 
-Pure Python 3 (no numpy).
+pm-slam-app-instrumented is pm-slam-app with the test and benchmark hooks (built with the tests and
+benchmarks, never installed); pm-slam-app itself reads no PMSLAM_* variable. Pure Python 3 (no numpy).
 """
 import sys, math, bisect
 def inv3(m):

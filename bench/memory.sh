@@ -8,7 +8,8 @@
 # first pose, 2.9 km of driving), mapped after 25, 50, 75 and 100 % of its log, and an open 60 m x 40 m hall.
 # Each run reports: peak RSS (/usr/bin/time -v), the area observed (cells with evidence), the bounding box of the
 # map, the grid's and the distance layer's bytes, the loop closure's bytes, ms/scan, and the error against the
-# ground truth. The three logs also run with PMSLAM_KEEP_LIBRARY_PAGES=1 (start-up library pages kept), and MRPT's
+# ground truth. The three logs also run with PMSLAM_KEEP_LIBRARY_PAGES=1 (start-up library pages kept; a hook of
+# pm-slam-app-instrumented, the same program with the test and benchmark hooks), and MRPT's
 # own floor (bench/mrpt_memory_floor.cpp) is measured beside them.
 # Writes bench/results/memory.md and bench/results/memory.png (map bytes against area observed).
 # Exit status: 0 done, 1 a run failed, 2 bad input.
@@ -29,7 +30,7 @@ for tool in cmake gnuplot awk; do command -v "$tool" >/dev/null || die "'$tool' 
 
 note "building Release in $build"
 cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release >"$build/memory-build.log" 2>&1 || die "cmake failed ($build/memory-build.log)"
-cmake --build "$build" -j2 --target pm-slam-app pm-slam-eval pm-world-log mrpt-memory-floor-maps >>"$build/memory-build.log" 2>&1 \
+cmake --build "$build" -j2 --target pm-slam-app pm-slam-app-instrumented pm-slam-eval pm-world-log mrpt-memory-floor-maps >>"$build/memory-build.log" 2>&1 \
   || die "build failed ($build/memory-build.log)"
 rm -rf "$work"
 mkdir -p "$work" "$results"
@@ -42,12 +43,12 @@ campus_scans=$(grep -c '^FLASER' "$work/campus.clf")
 rows="$work/rows.tsv"   # name scans peak_mb area_m2 bbox_m2 grid_mb dist_mb lc_mb own_mb ms_mean ms_median ms_p99 trans_err released_mb
 : >"$rows"
 failed=0
-# run NAME LOG RELATIONS [extra pm-slam-app args...]
+# run NAME LOG RELATIONS [extra pm-slam-app args...]; app=PROGRAM in its environment runs that program instead
 run() {
   local name=$1 log=$2 rel=$3; shift 3
   local out="$work/$name"
   note "$name"
-  if ! /usr/bin/time -v "$bin/pm-slam-app" "$log" --out "$out" --no-progress "$@" >"$out.summary" 2>"$out.time"; then
+  if ! /usr/bin/time -v "$bin/${app:-pm-slam-app}" "$log" --out "$out" --no-progress "$@" >"$out.summary" 2>"$out.time"; then
     local rc=$?
     [ $rc = 3 ] || { note "warning: $name failed (exit $rc; $out.summary, $out.time)"; failed=1; return; }
   fi
@@ -83,7 +84,7 @@ for d in intel aces fr079; do
   if [ -f "$datasets/$d/$d.clf" ]; then
     logs+=("$d")
     run "$d" "$datasets/$d/$d.clf" "$datasets/$d/$d.relations"
-    PMSLAM_KEEP_LIBRARY_PAGES=1 run "$d-keep-pages" "$datasets/$d/$d.clf" "$datasets/$d/$d.relations"
+    PMSLAM_KEEP_LIBRARY_PAGES=1 app=pm-slam-app-instrumented run "$d-keep-pages" "$datasets/$d/$d.clf" "$datasets/$d/$d.relations"
   else
     note "warning: $datasets/$d/$d.clf missing: $d skipped"
   fi
@@ -91,9 +92,9 @@ done
 floor=$(/usr/bin/time -v "$bin/mrpt-memory-floor-maps" 2>&1 >/dev/null | awk '/Maximum resident set size/ {printf "%.1f", $NF/1024}')
 
 # What each shared library costs at start-up: pm-slam-app's /proc/self/smaps just before it gives the start-up
-# pages back and just after (PMSLAM_SMAPS_DUMP), summed per mapped file.
+# pages back and just after (PMSLAM_SMAPS_DUMP, a hook of pm-slam-app-instrumented), summed per mapped file.
 sample_log="$work/hall.clf"
-PMSLAM_SMAPS_DUMP="$work/smaps" "$bin/pm-slam-app" "$sample_log" --out "$work/smaps-run" --no-progress --quiet >/dev/null 2>&1 || true
+PMSLAM_SMAPS_DUMP="$work/smaps" "$bin/pm-slam-app-instrumented" "$sample_log" --out "$work/smaps-run" --no-progress --quiet >/dev/null 2>&1 || true
 per_file() {  # FILE -> "path rss_kb anon_kb" per mapped file
   awk '/^[0-9a-f]+-[0-9a-f]+ / {path = (NF >= 6 ? $6 : "[anonymous]"); next}
        /^Rss:/ {rss[path] += $2} /^Anonymous:/ {anon[path] += $2}

@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+#include "../common/CommandLine.h"
+
 namespace
 {
 [[noreturn]] void fail(const std::string& m)
@@ -75,6 +77,68 @@ void setPose(Line& l, std::size_t i, const mrpt::poses::CPose2D& p)
 	l.tok[i + 2] = fmt(p.phi());
 }
 mrpt::poses::CPose2D inverse(const mrpt::poses::CPose2D& p) { return mrpt::poses::CPose2D() - p; }
+// Index of the odometry pose in a line (the raw odometry of a scan line).
+std::size_t odomIndex(const Line& l) { return l.scan ? 5 + l.n : 1; }
+
+/** What to inject where (the command line). */
+struct Fault
+{
+	std::string kind, in, out;
+	int count = 1;
+	unsigned seed = 1;
+	double headLo = 18, headHi = 30, lateral = 0.3, seconds = 20, fraction = 0.3, metres = 3;
+	int scansOut = 50, beams = 8;
+};
+
+Fault parseArgs(int argc, char** argv)
+{
+	Fault f;
+	std::vector<std::string> pos;
+	const auto words = pmslam_app::splitOptionValues(
+		argc, argv, {"--fault", "--count", "--seed", "--heading-deg", "--lateral", "--scans", "--seconds", "--fraction", "--beams", "--metres"});
+	for (std::size_t i = 0; i < words.size(); ++i)
+	{
+		const std::string& a = words[i];
+		auto val = [&]() -> std::string {
+			if (i + 1 >= words.size()) fail(a + " needs a value");
+			return words[++i];
+		};
+		if (a == "--fault") f.kind = val();
+		else if (a == "--count") f.count = int(number(a, val()));
+		else if (a == "--seed") f.seed = unsigned(number(a, val()));
+		else if (a == "--heading-deg")
+		{
+			const std::string v = val();
+			const auto c = v.find(':');
+			f.headLo = number(a, v.substr(0, c));
+			f.headHi = c == std::string::npos ? f.headLo : number(a, v.substr(c + 1));
+		}
+		else if (a == "--lateral") f.lateral = number(a, val());
+		else if (a == "--scans") f.scansOut = int(number(a, val()));
+		else if (a == "--seconds") f.seconds = number(a, val());
+		else if (a == "--fraction") f.fraction = number(a, val());
+		else if (a == "--beams") f.beams = int(number(a, val()));
+		else if (a == "--metres") f.metres = number(a, val());
+		else if (a == "-h" || a == "--help")
+		{
+			std::cout << "usage: pm-fault-inject --fault slip|dropout|gap|spurious|kidnap [--count N] [--seed S]\n"
+						 "  [--heading-deg LO:HI] [--lateral M] [--scans N] [--seconds S] [--fraction F] [--beams N]\n"
+						 "  [--metres M] IN.clf OUT.clf   (see the comment at the top of apps/pm-fault-inject/main.cpp;\n"
+						 "  a value may also follow its option after '=': --count=3)\n";
+			std::exit(0);
+		}
+		else if (!a.empty() && a[0] == '-') fail("unknown option '" + a + "'");
+		else pos.push_back(a);
+	}
+	if (pos.size() != 2) fail("expected IN.clf OUT.clf (see --help)");
+	f.in = pos[0];
+	f.out = pos[1];
+	const std::set<std::string> kinds{"slip", "dropout", "gap", "spurious", "kidnap"};
+	if (!kinds.count(f.kind)) fail("--fault '" + f.kind + "': expected slip, dropout, gap, spurious or kidnap");
+	if (f.count < 1) fail("--count: expected >= 1");
+	return f;
+}
+
 /** The next line of `f` into `s`; false at its end. Damage after `linesRead` lines: a warning and false (none
  * read: an error). */
 bool nextLine(pmslam::TextLineReader& f, const std::string& in, std::size_t linesRead, std::string& s)
@@ -92,68 +156,8 @@ bool nextLine(pmslam::TextLineReader& f, const std::string& in, std::size_t line
 	}
 }
 
-// Index of the odometry pose in a line (the raw odometry of a scan line).
-std::size_t odomIndex(const Line& l) { return l.scan ? 5 + l.n : 1; }
-
-struct Options
-{
-	std::string kind, in, out;
-	int count = 1;
-	unsigned seed = 1;
-	double headLo = 18, headHi = 30, lateral = 0.3, seconds = 20, fraction = 0.3, metres = 3;
-	int scansOut = 50, beams = 8;
-};
-
-/** The command line; exits on a bad one (2) or after --help (0). */
-Options parseOptions(int argc, char** argv)
-{
-	Options o;
-	std::vector<std::string> pos;
-	for (int i = 1; i < argc; ++i)
-	{
-		const std::string a = argv[i];
-		auto val = [&]() -> std::string {
-			if (i + 1 >= argc) fail(a + " needs a value");
-			return argv[++i];
-		};
-		if (a == "--fault") o.kind = val();
-		else if (a == "--count") o.count = int(number(a, val()));
-		else if (a == "--seed") o.seed = unsigned(number(a, val()));
-		else if (a == "--heading-deg")
-		{
-			const std::string v = val();
-			const auto c = v.find(':');
-			o.headLo = number(a, v.substr(0, c));
-			o.headHi = c == std::string::npos ? o.headLo : number(a, v.substr(c + 1));
-		}
-		else if (a == "--lateral") o.lateral = number(a, val());
-		else if (a == "--scans") o.scansOut = int(number(a, val()));
-		else if (a == "--seconds") o.seconds = number(a, val());
-		else if (a == "--fraction") o.fraction = number(a, val());
-		else if (a == "--beams") o.beams = int(number(a, val()));
-		else if (a == "--metres") o.metres = number(a, val());
-		else if (a == "-h" || a == "--help")
-		{
-			std::cout << "usage: pm-fault-inject --fault slip|dropout|gap|spurious|kidnap [--count N] [--seed S]\n"
-						 "  [--heading-deg LO:HI] [--lateral M] [--scans N] [--seconds S] [--fraction F] [--beams N]\n"
-						 "  [--metres M] IN.clf OUT.clf   (see the comment at the top of apps/pm-fault-inject/main.cpp)\n";
-			std::exit(0);
-		}
-		else if (!a.empty() && a[0] == '-') fail("unknown option '" + a + "'");
-		else pos.push_back(a);
-	}
-	if (pos.size() != 2) fail("expected IN.clf OUT.clf (see --help)");
-	o.in = pos[0];
-	o.out = pos[1];
-	const std::set<std::string> kinds{"slip", "dropout", "gap", "spurious", "kidnap"};
-	if (!kinds.count(o.kind)) fail("--fault '" + o.kind + "': expected slip, dropout, gap, spurious or kidnap");
-	if (o.count < 1) fail("--count: expected >= 1");
-	return o;
-}
-
-/** The lines of the log `in`, split into words, its scan and odometry lines recognised; `scans` gets the
- * indices of the scan lines. Exits if it cannot be read. */
-std::vector<Line> readLog(const std::string& in, std::vector<std::size_t>& scans)
+/** The log's lines, each scan and odometry line parsed; `scans` gets the indices of the scan lines. */
+std::vector<Line> readLines(const std::string& in, std::vector<std::size_t>& scans)
 {
 	pmslam::TextLineReader f;
 	if (!f.open(in)) fail("cannot read '" + in + "'");
@@ -188,24 +192,20 @@ std::vector<Line> readLog(const std::string& in, std::vector<std::size_t>& scans
 		}
 		lines.push_back(std::move(l));
 	}
+	if (scans.size() < 100) fail("'" + in + "' has " + std::to_string(scans.size()) + " laser scans: expected at least 100");
 	return lines;
 }
-}  // namespace
 
-int main(int argc, char** argv)
+/** Rewrites the lines with the faults: one place per equal slice of the middle 90 % of the scans,
+ * drawn inside its slice (spurious: every scan, with probability --fraction). */
+void inject(const Fault& f, std::vector<Line>& lines, std::size_t scanCount)
 {
-	const Options opt = parseOptions(argc, argv);
-	std::vector<std::size_t> scans;	 // indices of scan lines
-	std::vector<Line> lines = readLog(opt.in, scans);
-	if (scans.size() < 100) fail("'" + opt.in + "' has " + std::to_string(scans.size()) + " laser scans: expected at least 100");
-	std::mt19937 rng(opt.seed);
-
-	// Places: one per equal slice of the middle 90 % of the scans, drawn inside its slice.
+	std::mt19937 rng(f.seed);
 	auto uniform = [&]() { return (rng() >> 8) * (1.0 / 16777216.0); };	// same on every platform
 	std::vector<std::size_t> at;  // scan numbers
-	const double lo = 0.05 * scans.size(), width = 0.9 * scans.size() / opt.count;
-	if (opt.kind != "spurious")
-		for (int k = 0; k < opt.count; ++k) at.push_back(std::size_t(lo + width * (k + 0.25 + 0.5 * uniform())));
+	const double lo = 0.05 * scanCount, width = 0.9 * scanCount / f.count;
+	if (f.kind != "spurious")
+		for (int k = 0; k < f.count; ++k) at.push_back(std::size_t(lo + width * (k + 0.25 + 0.5 * uniform())));
 
 	mrpt::poses::CPose2D C;	 // correction applied to every odometry pose from here on
 	std::size_t next = 0;
@@ -232,22 +232,22 @@ int main(int argc, char** argv)
 			if (next < at.size() && scanNo == at[next])
 			{
 				++next;
-				std::cerr << "fault " << opt.kind << " at t=" << fmt(l.t) << " (scan #" << scanNo << ")\n";
-				if (opt.kind == "slip")
+				std::cerr << "fault " << f.kind << " at t=" << fmt(l.t) << " (scan #" << scanNo << ")\n";
+				if (f.kind == "slip")
 				{
-					const double h = (opt.headLo + (opt.headHi - opt.headLo) * uniform()) * (uniform() < 0.5 ? -1 : 1);
-					const double side = opt.lateral * (uniform() < 0.5 ? -1 : 1);
+					const double h = (f.headLo + (f.headHi - f.headLo) * uniform()) * (uniform() < 0.5 ? -1 : 1);
+					const double side = f.lateral * (uniform() < 0.5 ? -1 : 1);
 					C = C + raw + mrpt::poses::CPose2D(0, side, h * M_PI / 180) + inverse(raw);
 				}
-				else if (opt.kind == "dropout") dropLeft = opt.scansOut;
-				else if (opt.kind == "gap")
+				else if (f.kind == "dropout") dropLeft = f.scansOut;
+				else if (f.kind == "gap")
 				{
-					gapUntil = l.t + opt.seconds;
+					gapUntil = l.t + f.seconds;
 					l.keep = false;
 					++scanNo;
 					continue;
 				}
-				else if (opt.kind == "kidnap")
+				else if (f.kind == "kidnap")
 				{
 					frozen = true;
 					frozenAt = raw;
@@ -259,18 +259,18 @@ int main(int argc, char** argv)
 				--dropLeft;
 				l.keep = false;
 			}
-			if (opt.kind == "spurious" && uniform() < opt.fraction && int(l.n) > opt.beams)
+			if (f.kind == "spurious" && uniform() < f.fraction && int(l.n) > f.beams)
 			{
-				const std::size_t b0 = std::size_t(uniform() * (l.n - opt.beams));
+				const std::size_t b0 = std::size_t(uniform() * (l.n - f.beams));
 				const double r0 = 0.5 + 2.5 * uniform();
-				for (int b = 0; b < opt.beams; ++b) l.tok[2 + b0 + b] = fmt(r0 + 0.05 * (uniform() - 0.5));
+				for (int b = 0; b < f.beams; ++b) l.tok[2 + b0 + b] = fmt(r0 + 0.05 * (uniform() - 0.5));
 			}
 			++scanNo;
 		}
 		if (frozen && haveLast) carried += (raw - lastRaw).norm();
 		lastRaw = raw;
 		haveLast = true;
-		if (frozen && carried >= opt.metres)
+		if (frozen && carried >= f.metres)
 		{
 			frozen = false;
 			C = C + frozenAt + inverse(raw);	// odometry resumes from where it stood
@@ -286,9 +286,18 @@ int main(int argc, char** argv)
 		for (const auto& w : l.tok) s += (s.empty() ? "" : " ") + w;
 		l.text = s;
 	}
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	const Fault f = parseArgs(argc, argv);
+	std::vector<std::size_t> scans;	 // indices of scan lines
+	std::vector<Line> lines = readLines(f.in, scans);
+	inject(f, lines, scans.size());
 	try
 	{
-		pmslam::writeFileAtomically(opt.out, [&](std::ostream& o) {
+		pmslam::writeFileAtomically(f.out, [&](std::ostream& o) {
 			for (const auto& l : lines)
 				if (l.keep) o << l.text << "\n";
 		});

@@ -23,6 +23,7 @@
 #include <mrpt/system/COutputLogger.h>
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/io/LogReader.h>
+#include <pmslam/slam/OdometrySelector.h>
 #include <pmslam/util/RunStatistics.h>
 #include <pmslam/io/Trajectory.h>
 #include <sys/resource.h>
@@ -44,6 +45,9 @@
 #include <string>
 #include <vector>
 
+#include "../common/CommandLine.h"
+#include "../common/Message.h"
+
 namespace
 {
 const char* kProg = "pm-icp-slam";
@@ -55,7 +59,7 @@ MRPT's ICP SLAM (CMetricMapBuilderICP) on a robot log, for comparison with
 pm-slam-app on the same scans. LOG is an MRPT .rawlog or a Carmen log
 (.clf/.log), read exactly as pm-slam-app reads it.
 
-options (before or after LOG):
+options (before or after LOG; a value may also follow after '=': --out=DIR):
   --config FILE    INI file in the format of MRPT's icp-slam: [MappingApplication]
                    (CMetricMapBuilderICP::TConfigParams and the map initializers,
                    alwaysInsertByClass) and [ICP] (CICP::TConfigParams); optional
@@ -92,12 +96,13 @@ Args parseArgs(int argc, char** argv)
 {
 	Args a;
 	std::vector<std::string> positional;
-	for (int i = 1; i < argc; ++i)
+	const auto words = pmslam_app::splitOptionValues(argc, argv, {"--config", "--out", "--max-scans"});
+	for (std::size_t i = 0; i < words.size(); ++i)
 	{
-		const std::string s = argv[i];
+		const std::string& s = words[i];
 		auto value = [&](const char* name) -> std::string {
-			if (i + 1 >= argc) usageError(std::string(name) + " needs a value");
-			return argv[++i];
+			if (i + 1 >= words.size()) usageError(std::string(name) + " needs a value");
+			return words[++i];
 		};
 		if (s == "-h" || s == "--help")
 		{
@@ -141,22 +146,15 @@ std::string oneLine(const std::string& what)
 		if (const auto k = s.find(cut); k != std::string::npos) s.resize(k);
 	while (!s.empty() && s.front() == ' ') s.erase(s.begin());
 	while (!s.empty() && s.back() == ' ') s.pop_back();
-	return s;
+	return pmslam_app::withoutLibraryPrefix(s);
 }
-
-enum class OdometrySource
-{
-	Auto,
-	Scan,
-	Events
-};
 
 /** Everything read from --config. */
 struct IcpSlamConfig
 {
 	mrpt::config::CConfigFileMemory ini;
 	pmslam::LogReaderOptions log;
-	OdometrySource odometry = OdometrySource::Auto;
+	pmslam::OdometrySource odometry = pmslam::OdometrySource::Auto;
 	bool verbositySet = false;
 };
 
@@ -176,11 +174,14 @@ void loadConfig(const std::string& path, IcpSlamConfig& cfg)
 
 	cfg.log.noReturnRange = cfg.ini.read_double("Log", "noReturnRange", cfg.log.noReturnRange);
 	if (!(cfg.log.noReturnRange > 0)) throw std::runtime_error("--config " + path + ": [Log] noReturnRange: expected > 0 m");
-	const std::string odo = cfg.ini.read_string("Log", "odometrySource", "auto");
-	if (odo == "auto") cfg.odometry = OdometrySource::Auto;
-	else if (odo == "scan") cfg.odometry = OdometrySource::Scan;
-	else if (odo == "events") cfg.odometry = OdometrySource::Events;
-	else throw std::runtime_error("--config " + path + ": [Log] odometrySource = '" + odo + "': expected auto, scan or events");
+	try
+	{
+		cfg.odometry = pmslam::odometrySourceFromName(cfg.ini.read_string("Log", "odometrySource", "auto"));
+	}
+	catch (const std::invalid_argument& e)
+	{
+		throw std::runtime_error("--config " + path + ": [Log] odometrySource = " + e.what());
+	}
 	cfg.verbositySet = cfg.ini.keyExists("MappingApplication", "verbosity_level");
 }
 
@@ -198,20 +199,14 @@ void countWarning(std::string_view msg, mrpt::system::VerbosityLevel level, std:
 	else ++g_warnings->other;
 }
 
-}  // namespace
-
-int main(int argc, char** argv)
+/** The builder configured from --config: quiet by default, counting its warnings (per-scan INFO output
+ * would dominate the timing); a verbosity_level in the INI wins. Exits 2 with one line on a bad file. */
+void configureOrExit(const Args& args, IcpSlamConfig& cfg, mrpt::slam::CMetricMapBuilderICP& builder,
+					 WarningCounter& warnings)
 {
-	const Args args = parseArgs(argc, argv);
-
-	IcpSlamConfig cfg;
-	mrpt::slam::CMetricMapBuilderICP builder;
-	WarningCounter warnings;
 	try
 	{
 		loadConfig(args.config, cfg);
-		// Quiet by default: only count warnings (per-scan INFO output would
-		// dominate the timing). A verbosity_level in the INI wins.
 		builder.setMinLoggingLevel(mrpt::system::LVL_WARN);
 		builder.ICP_options.loadFromConfigFile(cfg.ini, "MappingApplication");
 		builder.ICP_params.loadFromConfigFile(cfg.ini, "ICP");
@@ -231,7 +226,7 @@ int main(int argc, char** argv)
 		const std::string msg = oneLine(e.what());
 		if (msg.rfind("--config", 0) == 0) std::cerr << kProg << ": " << msg << "\n";
 		else std::cerr << kProg << ": --config " << args.config << ": " << msg << "\n";
-		return 2;
+		std::exit(2);
 	}
 	if (!cfg.verbositySet)
 	{
@@ -240,16 +235,145 @@ int main(int argc, char** argv)
 		builder.setVerbosityLevelForCallbacks(mrpt::system::LVL_WARN);
 		builder.logRegisterCallback(&countWarning);
 	}
+}
 
+/** What the run computed. */
+struct Run
+{
+	pmslam::Trajectory traj;
+	std::vector<double> timingMs;
+	std::size_t odometryFed = 0;
+	bool failed = false;
+	std::string failure;
+};
+
+/** Feeds one scan to the builder as MRPT's icp-slam does from an observation-only rawlog: the odometry
+ * belonging to it first (if any), then the scan. Returns the ms spent in the builder. */
+double feedScan(mrpt::slam::CMetricMapBuilderICP& builder, pmslam::LogEvent& ev,
+				const std::optional<mrpt::math::TPose2D>& odo, double& lastOdoStamp)
+{
+	// Carmen ipc_timestamps may repeat or step back (intel: up to 0.9 s):
+	// keep the builder's clock strictly increasing, by 10 us (MRPT's
+	// timeDifference() resolves whole microseconds only).
+	double stamp = ev.timestamp;
+	if (odo && stamp < lastOdoStamp + 1e-5) stamp = lastOdoStamp + 1e-5;
+	const auto when = mrpt::Clock::fromDouble(stamp);
+	mrpt::obs::CObservationOdometry::Ptr odoObs;
+	if (odo)
+	{
+		odoObs = mrpt::obs::CObservationOdometry::Create();
+		odoObs->timestamp = when;
+		odoObs->sensorLabel = "ODOMETRY";
+		odoObs->odometry = mrpt::poses::CPose2D(*odo);
+		odoObs->hasVelocities = false;
+		lastOdoStamp = stamp;
+	}
+	ev.scan->timestamp = when;
+	if (ev.scan->sensorLabel.empty()) ev.scan->sensorLabel = "LASER";
+	const auto t0 = std::chrono::steady_clock::now();
+	if (odoObs) builder.processObservation(odoObs);
+	builder.processObservation(ev.scan);
+	return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/** Every scan of the log through the builder, until the end, --max-scans or a stop. */
+Run runLog(pmslam::LogReader& reader, mrpt::slam::CMetricMapBuilderICP& builder, pmslam::OdometrySource source,
+		   const Args& args)
+{
+	Run run;
+	const bool progress = !args.quiet && isatty(STDERR_FILENO);
+	const std::size_t estimated = reader.estimatedScanCount();
+	pmslam::OdometrySelector odometry(source);
+	double lastOdoStamp = -1e300;  // CRobot2DPoseEstimator wants strictly increasing odometry stamps
 	try
 	{
-		pmslam::checkDirectoryWritable(args.out);
+		pmslam::LogEvent ev;
+		while (!g_stop && reader.next(ev))
+		{
+			if (ev.kind == pmslam::LogEvent::Kind::Odometry)
+			{
+				odometry.takeReading(ev);
+				continue;
+			}
+			const auto odo = odometry.forScan(ev);
+			run.timingMs.push_back(feedScan(builder, ev, odo, lastOdoStamp));
+			if (odo) ++run.odometryFed;
+			const auto pose = builder.getCurrentPoseEstimation()->getMeanVal();
+			run.traj.push_back({ev.timestamp, pose.x(), pose.y(), pose.yaw()});
+			if (progress && run.traj.size() % 100 == 0)
+			{
+				std::fprintf(stderr, "\r%s: %zu", kProg, run.traj.size());
+				if (estimated) std::fprintf(stderr, "/%zu", estimated);
+				std::fprintf(stderr, " scans ");
+			}
+			if (args.maxScans && run.traj.size() >= args.maxScans) break;
+		}
 	}
 	catch (const std::exception& e)
 	{
-		std::cerr << kProg << ": --out " << args.out << ": " << oneLine(e.what()) << "\n";
-		return 2;
+		run.failed = true;
+		run.failure = oneLine(e.what());
 	}
+	if (progress) std::fprintf(stderr, "\r%*s\r", 40, "");
+	return run;
+}
+
+/** trajectory.txt and timing.txt; false when writing failed (said). */
+bool writeOutputs(const Args& args, const Run& run)
+{
+	namespace fs = std::filesystem;
+	std::ostringstream header;
+	header << kProg << " --config " << args.config << " " << args.log << " (" << run.traj.size() << " scans)";
+	try
+	{
+		pmslam::saveTrajectory((fs::path(args.out) / "trajectory.txt").string(), run.traj,
+							   header.str() + "\nposes of the robot base in the map frame (m, m, rad)");
+		pmslam::writeFileAtomically((fs::path(args.out) / "timing.txt").string(), [&](std::ostream& out) {
+			out << "# " << header.str() << "\n# timestamp ms\n";
+			char line[96];
+			for (std::size_t i = 0; i < run.traj.size(); ++i)
+			{
+				std::snprintf(line, sizeof line, "%.6f %.4f\n", run.traj[i].timestamp, run.timingMs[i]);
+				out << line;
+			}
+		});
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << kProg << ": cannot write outputs to " << args.out << ": " << oneLine(e.what()) << "\n";
+		return false;
+	}
+	return true;
+}
+
+void printSummary(const Args& args, const Run& run, const pmslam::LogReadStats& st,
+				  mrpt::slam::CMetricMapBuilderICP& builder, const WarningCounter& warnings, double wallS)
+{
+	const auto& traj = run.traj;
+	const double sumMs = std::accumulate(run.timingMs.begin(), run.timingMs.end(), 0.0);
+	const double logSpan = traj.size() > 1 ? traj.back().timestamp - traj.front().timestamp : 0.0;
+	std::printf("%s: %s\n", kProg, args.log.c_str());
+	std::printf("  scans %zu, keyframes %u, ICP rejected (low goodness) %zu, odometry readings %zu (fed %zu), skipped %zu, warnings %zu\n",
+				traj.size(), builder.getCurrentlyBuiltMapSize(), warnings.icpRejected, st.odometry, run.odometryFed,
+				st.skipped, st.warnings);
+	std::printf("  time per scan (ICP + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
+				run.timingMs.empty() ? 0.0 : sumMs / run.timingMs.size(), pmslam::percentile(run.timingMs, 0.5),
+				pmslam::percentile(run.timingMs, 0.99));
+	std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx, peak memory %.1f MB\n", sumMs / 1000.0,
+				wallS, sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0, pmslam::peakResidentMemoryMB());
+	std::printf("  trajectory: %s/trajectory.txt, timing: %s/timing.txt\n", args.out.c_str(), args.out.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+	const Args args = parseArgs(argc, argv);
+	IcpSlamConfig cfg;
+	mrpt::slam::CMetricMapBuilderICP builder;
+	WarningCounter warnings;
+	configureOrExit(args, cfg, builder, warnings);
+	// The log before --out: a bad log must not leave an empty folder behind.
 	std::unique_ptr<pmslam::LogReader> reader;
 	try
 	{
@@ -260,125 +384,29 @@ int main(int argc, char** argv)
 		std::cerr << kProg << ": " << oneLine(e.what()) << "\n";
 		return 2;
 	}
+	try
+	{
+		pmslam::checkDirectoryWritable(args.out);
+	}
+	catch (const std::exception& e)
+	{
+		std::cerr << kProg << ": --out " << args.out << ": " << oneLine(e.what()) << "\n";
+		return 2;
+	}
 	reader->onWarning = [](const std::string& w) { std::cerr << kProg << ": warning: " << w << "\n"; };
-
 	std::signal(SIGINT, onSignal);
 	std::signal(SIGTERM, onSignal);
 
-	const bool progress = !args.quiet && isatty(STDERR_FILENO);
-	const std::size_t estimated = reader->estimatedScanCount();
-
-	pmslam::Trajectory traj;
-	std::vector<double> timingMs;
-	std::optional<mrpt::math::TPose2D> latestOdometry;
-	double lastOdoStamp = -1e300;  // CRobot2DPoseEstimator wants strictly increasing odometry stamps
-	std::size_t odometryFed = 0;
 	const auto wallStart = std::chrono::steady_clock::now();
-	bool failed = false;
-	std::string failure;
-	try
-	{
-		pmslam::LogEvent ev;
-		while (!g_stop && reader->next(ev))
-		{
-			if (ev.kind == pmslam::LogEvent::Kind::Odometry)
-			{
-				if (cfg.odometry != OdometrySource::Scan) latestOdometry = ev.odometry;
-				continue;
-			}
-			std::optional<mrpt::math::TPose2D> odo;
-			if (ev.scanHasOdometry && cfg.odometry != OdometrySource::Events) odo = ev.scanOdometry;
-			else if (cfg.odometry != OdometrySource::Scan) odo = latestOdometry;
-
-			// Carmen ipc_timestamps may repeat or step back (intel: up to 0.9 s):
-			// keep the builder's clock strictly increasing, by 10 us (MRPT's
-			// timeDifference() resolves whole microseconds only).
-			double stamp = ev.timestamp;
-			if (odo && stamp < lastOdoStamp + 1e-5) stamp = lastOdoStamp + 1e-5;
-			const auto when = mrpt::Clock::fromDouble(stamp);
-			mrpt::obs::CObservationOdometry::Ptr odoObs;
-			if (odo)
-			{
-				odoObs = mrpt::obs::CObservationOdometry::Create();
-				odoObs->timestamp = when;
-				odoObs->sensorLabel = "ODOMETRY";
-				odoObs->odometry = mrpt::poses::CPose2D(*odo);
-				odoObs->hasVelocities = false;
-				lastOdoStamp = stamp;
-			}
-			ev.scan->timestamp = when;
-			if (ev.scan->sensorLabel.empty()) ev.scan->sensorLabel = "LASER";
-
-			const auto t0 = std::chrono::steady_clock::now();
-			if (odoObs) builder.processObservation(odoObs);
-			builder.processObservation(ev.scan);
-			const auto t1 = std::chrono::steady_clock::now();
-			if (odoObs) ++odometryFed;
-
-			const auto pose = builder.getCurrentPoseEstimation()->getMeanVal();
-			traj.push_back({ev.timestamp, pose.x(), pose.y(), pose.yaw()});
-			timingMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-			if (progress && traj.size() % 100 == 0)
-			{
-				std::fprintf(stderr, "\r%s: %zu", kProg, traj.size());
-				if (estimated) std::fprintf(stderr, "/%zu", estimated);
-				std::fprintf(stderr, " scans ");
-			}
-			if (args.maxScans && traj.size() >= args.maxScans) break;
-		}
-	}
-	catch (const std::exception& e)
-	{
-		failed = true;
-		failure = oneLine(e.what());
-	}
-	if (progress) std::fprintf(stderr, "\r%*s\r", 40, "");
+	const Run run = runLog(*reader, builder, cfg.odometry, args);
 	const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
-
-	if (g_stop) std::cerr << kProg << ": interrupted after " << traj.size() << " scans: writing what was computed\n";
-	if (failed)
-		std::cerr << kProg << ": error after " << traj.size() << " scans: " << failure << ": writing what was computed\n";
-
-	std::ostringstream header;
-	header << kProg << " --config " << args.config << " " << args.log << " (" << traj.size() << " scans)";
-	try
-	{
-		namespace fs = std::filesystem;
-		pmslam::saveTrajectory((fs::path(args.out) / "trajectory.txt").string(), traj,
-							   header.str() + "\nposes of the robot base in the map frame (m, m, rad)");
-		pmslam::writeFileAtomically((fs::path(args.out) / "timing.txt").string(), [&](std::ostream& out) {
-			out << "# " << header.str() << "\n# timestamp ms\n";
-			char line[96];
-			for (std::size_t i = 0; i < traj.size(); ++i)
-			{
-				std::snprintf(line, sizeof line, "%.6f %.4f\n", traj[i].timestamp, timingMs[i]);
-				out << line;
-			}
-		});
-	}
-	catch (const std::exception& e)
-	{
-		std::cerr << kProg << ": cannot write outputs to " << args.out << ": " << oneLine(e.what()) << "\n";
-		return 1;
-	}
-
-	if (!args.quiet)
-	{
-		const double sumMs = std::accumulate(timingMs.begin(), timingMs.end(), 0.0);
-		const double logSpan = traj.size() > 1 ? traj.back().timestamp - traj.front().timestamp : 0.0;
-		const auto& st = reader->stats();
-		std::printf("%s: %s\n", kProg, args.log.c_str());
-		std::printf("  scans %zu, keyframes %u, ICP rejected (low goodness) %zu, odometry readings %zu (fed %zu), skipped %zu, warnings %zu\n",
-					traj.size(), builder.getCurrentlyBuiltMapSize(), warnings.icpRejected, st.odometry, odometryFed,
-					st.skipped, st.warnings);
-		std::printf("  time per scan (ICP + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
-					timingMs.empty() ? 0.0 : sumMs / timingMs.size(), pmslam::percentile(timingMs, 0.5),
-					pmslam::percentile(timingMs, 0.99));
-		std::printf("  SLAM time %.2f s, wall time %.2f s, realtime factor %.0fx, peak memory %.1f MB\n", sumMs / 1000.0,
-					wallS, sumMs > 0 && logSpan > 0 ? logSpan / (sumMs / 1000.0) : 0.0, pmslam::peakResidentMemoryMB());
-		std::printf("  trajectory: %s/trajectory.txt, timing: %s/timing.txt\n", args.out.c_str(), args.out.c_str());
-	}
-	if (failed) return 1;
+	if (g_stop) std::cerr << kProg << ": interrupted after " << run.traj.size() << " scans: writing what was computed\n";
+	if (run.failed)
+		std::cerr << kProg << ": error after " << run.traj.size() << " scans: " << run.failure
+				  << ": writing what was computed\n";
+	if (!writeOutputs(args, run)) return 1;
+	if (!args.quiet) printSummary(args, run, reader->stats(), builder, warnings, wallS);
+	if (run.failed) return 1;
 	if (g_stop) return 130;
 	return 0;
 }

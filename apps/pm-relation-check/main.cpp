@@ -29,6 +29,9 @@
 #include <string>
 #include <vector>
 
+#include "../common/CommandLine.h"
+#include "../common/Message.h"
+
 namespace
 {
 const char* kUsage =
@@ -47,11 +50,12 @@ int main(int argc, char** argv)
 {
 	double maxDt = 1.0, mapSpan = 0.0;
 	std::vector<std::string> files;
-	for (int i = 1; i < argc; ++i)
+	const auto words = pmslam_app::splitOptionValues(argc, argv, {"--max-dt", "--map-span"});
+	for (std::size_t i = 0; i < words.size(); ++i)
 	{
-		const std::string a = argv[i];
-		if ((a == "--max-dt" || a == "--map-span") && i + 1 < argc)
-			(a == "--max-dt" ? maxDt : mapSpan) = std::atof(argv[++i]);
+		const std::string& a = words[i];
+		if ((a == "--max-dt" || a == "--map-span") && i + 1 < words.size())
+			(a == "--max-dt" ? maxDt : mapSpan) = std::atof(words[++i].c_str());
 		else if (a == "-h" || a == "--help")
 			return std::printf("%s", kUsage), 0;
 		else
@@ -126,7 +130,7 @@ int main(int argc, char** argv)
 	}
 	catch (const std::exception& e)
 	{
-		std::fprintf(stderr, "pm-relation-check: %s\n", e.what());
+		std::fprintf(stderr, "pm-relation-check: %s\n", pmslam_app::withoutLibraryPrefix(e.what()).c_str());
 		return 2;
 	}
 	return 0;

@@ -38,7 +38,7 @@ LiveViewer::LiveViewer(const std::string& title)
 	const auto open = reinterpret_cast<OpenFn>(::dlsym(m_library, "pmslam_viewer_open"));
 	m_show = reinterpret_cast<void (*)(void*, const mrpt::img::CImage*)>(::dlsym(m_library, "pmslam_viewer_show"));
 	m_close = reinterpret_cast<void (*)(void*)>(::dlsym(m_library, "pmslam_viewer_close"));
-	m_wait = reinterpret_cast<void (*)(void*)>(::dlsym(m_library, "pmslam_viewer_wait_for_key"));
+	m_wait = reinterpret_cast<void (*)(void*, int (*)(void*), void*)>(::dlsym(m_library, "pmslam_viewer_wait"));
 	if (!open || !m_show || !m_close || !m_wait)
 	{
 		m_error = "libpmslam-viewer.so lacks the pmslam_viewer_* entry points";
@@ -54,9 +54,12 @@ LiveViewer::~LiveViewer()
 	// The library stays loaded: GUI toolkits keep threads and atexit handlers in it.
 }
 
-void LiveViewer::waitForKey()
+void LiveViewer::waitUntilClosed(const std::function<bool()>& stop)
 {
-	if (m_window) m_wait(m_window);
+	if (!m_window) return;
+	m_wait(
+		m_window, [](void* f) { return int((*static_cast<const std::function<bool()>*>(f))()); },
+		const_cast<std::function<bool()>*>(&stop));
 }
 
 void LiveViewer::show(const mrpt::img::CImage& image)

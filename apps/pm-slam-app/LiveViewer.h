@@ -10,6 +10,7 @@
 
 #include <mrpt/img/CImage.h>
 
+#include <functional>
 #include <string>
 
 namespace pmslam_app
@@ -26,15 +27,17 @@ class LiveViewer
 	bool isOpen() const { return m_window != nullptr; }
 	const std::string& error() const { return m_error; }
 	void show(const mrpt::img::CImage& image);
-	/** Blocks until a key is pressed in the window or it is closed. */
-	void waitForKey();
+	/** Blocks until a key is pressed in the window, the window is closed, or `stop` says so (polled a few
+	 * times a second). Only the window counts: not the terminal (MRPT's own waitForKey() also returns on
+	 * input at stdin, so it returned at once when stdin was no terminal). */
+	void waitUntilClosed(const std::function<bool()>& stop);
 
    private:
 	void* m_library = nullptr;
 	void* m_window = nullptr;
 	void (*m_show)(void*, const mrpt::img::CImage*) = nullptr;
 	void (*m_close)(void*) = nullptr;
-	void (*m_wait)(void*) = nullptr;
+	void (*m_wait)(void*, int (*)(void*), void*) = nullptr;
 	std::string m_error;
 };
 

@@ -45,3 +45,10 @@ void ProgressLine::clear()
 	m_shown = false;
 }
 }  // namespace pmslam
+
+#include "SlamRun.h"
+
+namespace pmslam_app
+{
+void ScanProgress::onScan(const ScanStep& s) { m_line.update(s.run.trajectory().size()); }
+}  // namespace pmslam_app

@@ -28,3 +28,20 @@ class ProgressLine
 	std::chrono::steady_clock::time_point m_start, m_last;
 };
 }  // namespace pmslam
+
+#include "ScanObserver.h"
+
+namespace pmslam_app
+{
+/** A log run's progress line: scans done out of the log's estimate (a live run's line is
+ * LiveStatistics'). */
+class ScanProgress : public ScanObserver
+{
+   public:
+	explicit ScanProgress(pmslam::ProgressLine& line) : m_line(line) {}
+	void onScan(const ScanStep& step) override;
+
+   private:
+	pmslam::ProgressLine& m_line;
+};
+}  // namespace pmslam_app

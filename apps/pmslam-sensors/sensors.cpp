@@ -267,33 +267,63 @@ class Hub
 		return !m_cv.wait_for(lock, std::chrono::duration<double>(seconds), [&] { return m_stop.load(); });
 	}
 
+	/** The driver's own warnings and errors become notes (each once in a row) once it delivered data; the
+	 * latest is returned (kept up to date) for the messages of a failure. */
+	std::shared_ptr<std::string> captureLog(mrpt::hwdrivers::CGenericSensor& sensor, Sensor& s, unsigned gen)
+	{
+		auto lastLog = std::make_shared<std::string>();
+		auto* logger = dynamic_cast<mrpt::system::COutputLogger*>(&sensor);
+		if (!logger) return lastLog;
+		logger->logging_enable_console_output = false;
+		logger->logRegisterCallback([this, &s, gen, lastLog](std::string_view msg, mrpt::system::VerbosityLevel level,
+															 std::string_view, const mrpt::Clock::time_point&) {
+			if (level < mrpt::system::LVL_WARN) return;
+			const std::string m = oneLine(std::string(msg));
+			if (m.empty() || m == *lastLog) return;
+			*lastLog = m;
+			bool tell = false;
+			{
+				std::lock_guard<std::mutex> lock(m_mutex);
+				if (s.generation != gen) return;
+				s.lastError = m;
+				tell = s.connected;
+			}
+			if (tell) note(s, m);
+		});
+		return lastLog;
+	}
+
+	/** The first data of a (re)connection: the sensor is connected (a reconnection is said). False when a
+	 * newer worker has the sensor. */
+	bool connected(Sensor& s, unsigned gen, double startTook)
+	{
+		bool wasConnected = false;
+		double silent = 0;
+		{
+			std::lock_guard<std::mutex> lock(m_mutex);
+			if (s.generation != gen) return false;
+			wasConnected = s.connected;
+			s.connected = true;
+			silent = since(s.lastData);
+			if (s.startSeconds < 0) s.startSeconds = startTook;
+		}
+		m_cv.notify_all();
+		if (wasConnected)
+		{
+			char b[64];
+			std::snprintf(b, sizeof b, "reconnected after %.1f s without data", silent);
+			note(s, b);
+		}
+		return true;
+	}
+
 	void run(Sensor& s, unsigned gen)
 	{
 		double pause = 0.5;	 // between connection attempts, doubling to 5 s
 		while (current(s, gen))
 		{
 			auto sensor = mrpt::hwdrivers::CGenericSensor::createSensorPtr(s.driver);
-			// The driver's own warnings and errors become notes (each once in a row) once it delivered data.
-			auto lastLog = std::make_shared<std::string>();
-			if (auto* logger = dynamic_cast<mrpt::system::COutputLogger*>(sensor.get()))
-			{
-				logger->logging_enable_console_output = false;
-				logger->logRegisterCallback([this, &s, gen, lastLog](std::string_view msg, mrpt::system::VerbosityLevel level,
-																	 std::string_view, const mrpt::Clock::time_point&) {
-					if (level < mrpt::system::LVL_WARN) return;
-					const std::string m = oneLine(std::string(msg));
-					if (m.empty() || m == *lastLog) return;
-					*lastLog = m;
-					bool tell = false;
-					{
-						std::lock_guard<std::mutex> lock(m_mutex);
-						if (s.generation != gen) return;
-						s.lastError = m;
-						tell = s.connected;
-					}
-					if (tell) note(s, m);
-				});
-			}
+			const auto lastLog = captureLog(*sensor, s, gen);
 			std::string why;
 			bool ok = true;
 			// Starting may take long (CLMS100Eth: 15 s), so the first start has all of --connect-timeout; a
@@ -358,23 +388,7 @@ class Hub
 					if (!gotData)
 					{
 						gotData = true;
-						bool wasConnected = false;
-						double silent = 0;
-						{
-							std::lock_guard<std::mutex> lock(m_mutex);
-							if (s.generation != gen) return;
-							wasConnected = s.connected;
-							s.connected = true;
-							silent = since(s.lastData);
-							if (s.startSeconds < 0) s.startSeconds = startTook;
-						}
-						m_cv.notify_all();
-						if (wasConnected)
-						{
-							char b[64];
-							std::snprintf(b, sizeof b, "reconnected after %.1f s without data", silent);
-							note(s, b);
-						}
+						if (!connected(s, gen, startTook)) return;
 						pause = 0.5;
 					}
 					{

@@ -3,8 +3,10 @@
 #include <mrpt/gui/CDisplayWindow.h>
 #include <mrpt/img/CImage.h>
 
+#include <chrono>
 #include <exception>
 #include <iostream>
+#include <thread>
 
 extern "C"
 {
@@ -26,9 +28,16 @@ extern "C"
 		if (window && image) (*static_cast<mrpt::gui::CDisplayWindow::Ptr*>(window))->showImage(*image);
 	}
 
-	__attribute__((visibility("default"))) void pmslam_viewer_wait_for_key(void* window)
+	/** Until a key is pressed in the window, it is closed, or stop(context) returns non-zero. Not MRPT's
+	 * waitForKey(): that also returns on input at the program's stdin, at once when stdin is no terminal
+	 * (a pipe, /dev/null), so the final map could not be looked at. */
+	__attribute__((visibility("default"))) void pmslam_viewer_wait(void* window, int (*stop)(void*), void* context)
 	{
-		if (window) (*static_cast<mrpt::gui::CDisplayWindow::Ptr*>(window))->waitForKey();
+		if (!window) return;
+		auto& w = *static_cast<mrpt::gui::CDisplayWindow::Ptr*>(window);
+		w->clearKeyHitFlag();
+		while (w->isOpen() && !w->keyHit() && !(stop && stop(context)))
+			std::this_thread::sleep_for(std::chrono::milliseconds(20));
 	}
 
 	__attribute__((visibility("default"))) void pmslam_viewer_close(void* window)

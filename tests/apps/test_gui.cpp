@@ -51,3 +51,25 @@ TEST(Gui, WindowRunsExitCleanlyWithTheirSummary)
 	}
 	fs::remove_all(out);
 }
+
+TEST(Gui, TheFinalMapStaysShownUntilAKeyIsPressedInTheWindow)
+{
+	// Under Xvfb, with stdin not a terminal, the window once closed as soon as the summary was printed
+	// (MRPT's waitForKey() also returns on input at stdin): the final map could not be looked at.
+#ifdef PMSLAM_SANITIZE
+	GTEST_SKIP() << "GTK and wxWidgets are not built for the sanitizers";
+#endif
+	if (run("command -v xvfb-run && command -v xdotool").exitCode != 0)
+		GTEST_SKIP() << "xvfb-run or xdotool not installed (packages xvfb, xauth, xdotool; scripts/setup.sh installs them)";
+	if (!fs::exists(kSample)) GTEST_SKIP() << kSample << " not installed (package mrpt-common)";
+	const fs::path out = fs::temp_directory_path() / ("pmslam-test-gui-stays-" + std::to_string(::getpid()));
+	fs::remove_all(out);
+	fs::create_directories(out);
+	const std::string script = PMSLAM_SOURCE_DIR "/tests/apps/gui/stays-open-under-xvfb.sh";
+	const auto r = run(quote(script) + " " + quote(kApp) + " " + quote(kSample) + " " + quote(out.string()) + " 4");
+	EXPECT_NE(r.output.find("running 4 s after the end: yes"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("ended after the key: yes"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("exit 0"), std::string::npos) << r.output;
+	EXPECT_TRUE(fs::exists(out / "run" / "map.png"));
+	fs::remove_all(out);
+}

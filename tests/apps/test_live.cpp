@@ -352,10 +352,10 @@ TEST(LiveSensors, ASlamSlowerThanItsSensorDropsTheOldestScansAndSaysSo)
 	Emulator emu(dir, "scip");
 	ASSERT_GT(emu.port, 0);
 	const fs::path out = dir / "out", rec = dir / "live.rawlog";
-	// 40 ms per scan (the test hook) against a 40 Hz sensor: the SLAM runs at most 25 scans a second, so the
-	// queue must stay at 3 scans and the oldest go.
+	// 40 ms per scan (the test hook of pm-slam-app-instrumented) against a 40 Hz sensor: the SLAM runs at most
+	// 25 scans a second, so the queue must stay at 3 scans and the oldest go.
 	const auto r = run("PMSLAM_TEST_SCAN_DELAY_MS=40 timeout -s INT -k 30 --preserve-status 10 " +
-					   quote(kBin + "pm-slam-app") + " --live " + quote(writeIni(dir, hokuyoIni(emu.port)).string()) +
+					   quote(kBin + "pm-slam-app-instrumented") + " --live " + quote(writeIni(dir, hokuyoIni(emu.port)).string()) +
 					   " --out " + quote(out.string()) + " --max-pending 3 --record " + quote(rec.string()));
 	const int status = r.exitCode;
 	const std::string& output = r.output;
@@ -402,7 +402,7 @@ TEST(LiveSensors, OneStopSignalDeliveredTwiceIsStillACleanStopButALaterSecondOne
 		// A user's second Ctrl-C, 0.6 s later while the run is still finishing (200 ms per scan, 20 scans pending
 		// when the first came: 4 s of draining), ends it at once: killed by the signal, as documented.
 		::setenv("PMSLAM_TEST_SCAN_DELAY_MS", "200", 1);
-		Process app({kBin + "pm-slam-app", "--live", ini.string(), "--out", (dir / "b").string()}, dir / "b.out");
+		Process app({kBin + "pm-slam-app-instrumented", "--live", ini.string(), "--out", (dir / "b").string()}, dir / "b.out");
 		::unsetenv("PMSLAM_TEST_SCAN_DELAY_MS");
 		std::this_thread::sleep_for(std::chrono::seconds(4));
 		app.signal(SIGINT);

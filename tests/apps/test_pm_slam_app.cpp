@@ -108,7 +108,7 @@ TEST(PmSlamApp, HeadlessRunsLinkNeitherTheGuiStackNorMrptSlamAndTheWindowPluginL
 	const std::string plugin = PMSLAM_BINARY_DIR "/bin/libpmslam-viewer.so";
 	void* lib = ::dlopen(plugin.c_str(), RTLD_NOW | RTLD_LOCAL);
 	ASSERT_NE(lib, nullptr) << ::dlerror();
-	for (const char* sym : {"pmslam_viewer_open", "pmslam_viewer_show", "pmslam_viewer_wait_for_key", "pmslam_viewer_close"})
+	for (const char* sym : {"pmslam_viewer_open", "pmslam_viewer_show", "pmslam_viewer_wait", "pmslam_viewer_close"})
 		EXPECT_NE(::dlsym(lib, sym), nullptr) << sym;
 }
 

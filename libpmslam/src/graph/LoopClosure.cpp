@@ -2,6 +2,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
+#include <pmslam/graph/KeyframeProbe.h>
 #include <pmslam/graph/LoopClosure.h>
 #include <malloc.h>
 #include <pmslam/match/CorrelativeSearch.h>
@@ -97,14 +98,9 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 		m_graph.addNode(id, compose(m_graph.pose(id - 1), z));
 		m_graph.addEdge(id - 1, id, z, toMrpt(info));
 	}
-	// For bench/calibrate_information.py: each keyframe's time, pose and match curvature.
-	if (const char* dump = std::getenv("PMSLAM_KEYFRAMES_DUMP"))
-		if (FILE* f = std::fopen(dump, "a"))
-		{
-			std::fprintf(f, "%.6f %.6f %.6f %.6f %.6g %.6g %.6g %.6g %.6g %.6g\n", timestamp, pose.x, pose.y, pose.phi,
-						 hessian(0, 0), hessian(0, 1), hessian(0, 2), hessian(1, 1), hessian(1, 2), hessian(2, 2));
-			std::fclose(f);
-		}
+	// For bench/calibrate_information.py (through pm-slam-app-instrumented): each keyframe's time, pose
+	// and match curvature.
+	if (const auto& probe = keyframeProbe()) probe({timestamp, pose, hessian});
 	// Kept for the rest of the run: without the slack of the vectors they were built in.
 	scan.hits.shrink_to_fit();
 	scan.freeEnds.shrink_to_fit();

@@ -1,0 +1,104 @@
+/* pm-slam-app — the summary and the exit status (see Summary.h). */
+#include "Summary.h"
+
+#include <pmslam/util/RunStatistics.h>
+
+#include <cstdio>
+#include <numeric>
+#include <string>
+
+#include "StopSignal.h"
+
+namespace pmslam_app
+{
+namespace
+{
+std::string mb(std::size_t bytes)
+{
+	char b[32];
+	std::snprintf(b, sizeof b, "%.1f MB", double(bytes) / (1024.0 * 1024.0));
+	return b;
+}
+
+void printLoopClosure(const pmslam::LoopClosure& lc, const std::string& out)
+{
+	const auto& ls = lc.stats();
+	std::printf("  loop closure: %zu loops closed; loop edges %zu accepted, %zu of them rejected by the chi-square "
+				"test (%zu matches verified in %zu attempts, %zu dropped as look-alikes of another visit); %zu revisit edges (front-end matches onto an earlier "
+				"visit), %zu of them rejected; %zu optimisations, %zu map updates (%zu keyframes re-inserted, %zu blocks "
+				"rebuilt); back-end %.2f s on its thread "
+				"(optimiser %.2f s), front-end waited %.2f s; graph: %s/graph.graph\n",
+				ls.closures, ls.accepted, ls.rejected, ls.verified, ls.attempts, ls.ambiguous, ls.revisits, ls.revisitsRejected,
+				ls.optimizations, ls.mapUpdates, ls.reinserted, ls.blocksReplaced, ls.backendSeconds, ls.optimizeSeconds, ls.waitSeconds,
+				out.c_str());
+}
+
+void printTimes(const RunFacts& f)
+{
+	const auto& traj = f.run.trajectory();
+	const std::vector<double> total = f.timing.frontEndMs();
+	const double sumMs = std::accumulate(total.begin(), total.end(), 0.0);
+	const double logSpan = traj.size() > 1 ? traj.back().timestamp - traj.front().timestamp : 0.0;
+	std::printf("  time per scan (match + map update): mean %.3f ms, median %.3f ms, p99 %.3f ms\n",
+				total.empty() ? 0.0 : sumMs / total.size(), pmslam::percentile(total, 0.5), pmslam::percentile(total, 0.99));
+	// Whole-log processing: the front-end plus its waits for the back-end (and the final optimisation).
+	const double slamS = (sumMs + f.timing.backendWaitMs()) / 1000.0 + f.finishSeconds;
+	std::printf("  SLAM time %.2f s (front-end %.2f s, waiting for the back-end %.2f s), wall time %.2f s, "
+				"realtime factor %.0fx\n",
+				slamS, sumMs / 1000.0, slamS - sumMs / 1000.0, f.wallSeconds,
+				slamS > 0 && logSpan > 0 ? logSpan / slamS : 0.0);
+}
+
+void printMemory(const RunFacts& f)
+{
+	// The process's peak includes MRPT's shared libraries (~100 MB mapped and relocated at
+	// start-up, before any data); the map's own memory is reported beside it.
+	const auto& slam = f.run.slam();
+	const auto now = pmslam::residentMemoryNow();
+	const double res = slam.grid().updateOptions().resolution;
+	std::printf(
+		"  peak memory %.1f MB (at the end: %.1f MB own, %.1f MB mapped library files, %.1f MB of start-up "
+		"library pages given back; map: %.0f m² observed, grid %.1f MB + distance layer %.1f MB%s)\n",
+		pmslam::peakResidentMemoryMB(), now.anonymousMB, now.fileMB, f.releasedMB,
+		slam.grid().cells().observedCells() * res * res, slam.grid().cells().memoryBytes() / (1024.0 * 1024.0),
+		slam.grid().distanceMap().memoryBytes() / (1024.0 * 1024.0),
+		slam.loopClosure() ? (", loop closure " + mb(slam.loopClosure()->memoryBytes())).c_str() : "");
+}
+}  // namespace
+
+void printSummary(const Options& o, const RunFacts& f)
+{
+	const auto& slam = f.run.slam();
+	const auto& st = f.input.reader().stats();
+	std::printf("pm-slam-app: %s\n", o.log.c_str());
+	std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
+				f.run.trajectory().size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
+	std::printf("  tracking: %s; %zu matches rejected, %zu wide searches, %zu re-localisations, %zu scans inserted "
+				"at the odometry pose on new ground, longest span without an accepted match %.1f s (%zu over %.0f s)\n",
+				f.trackingLost ? "LOST (exit status 3)" : "ok", slam.scansRejected(), slam.wideSearches(),
+				slam.relocalizations(), slam.reanchorings(), f.untracked.longest, f.untracked.warned, kWarnUntrackedSeconds);
+	if (const auto* lc = slam.loopClosure()) printLoopClosure(*lc, o.out);
+	if (f.live) f.live->printSummary(f.run.trajectory().size());
+	if (o.snapshotEvery > 0)
+		std::printf("  %zu snapshots written to %s (every %.1f s)\n", f.snapshots, o.out.c_str(), o.snapshotEvery);
+	printTimes(f);
+	printMemory(f);
+	if (o.localizing())
+		std::printf("  localised on %s (unchanged): %s/map.png, trajectory: %s/trajectory.txt\n", o.localize.c_str(),
+					o.out.c_str(), o.out.c_str());
+	else
+		std::printf("  map: %s/map.png (and map.pgm/.yaml, map.gridmap.gz, map.simplemap.gz), trajectory: %s/trajectory.txt\n",
+					o.out.c_str(), o.out.c_str());
+}
+
+int exitStatus(const Options& o, const RunEnd& end, const RunFacts& f)
+{
+	if (end.failed) return 1;
+	if (stopRequested() && !o.openEnded()) return 130;
+	if (!f.trackingLost) return 0;
+	std::fprintf(stderr, "pm-slam-app: tracking was lost for %.1f s of log (more than --max-untracked %.1f s): exit status 3\n",
+				 f.untracked.longest, o.maxUntracked);
+	return 3;
+}
+
+}  // namespace pmslam_app
