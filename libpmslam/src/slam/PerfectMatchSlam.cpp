@@ -49,7 +49,6 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	mapInsertBelowInliers = c.read_double(s, "mapInsertBelowInliers", mapInsertBelowInliers);
 	minPoints = static_cast<unsigned>(c.read_int(s, "minPoints", static_cast<int>(minPoints)));
 	minOverlapGoodness = c.read_double(s, "minOverlapGoodness", minOverlapGoodness);
-	ignoreUnexploredPoints = c.read_bool(s, "ignoreUnexploredPoints", ignoreUnexploredPoints);
 	degenerateBelow = c.read_double(s, "degenerateBelow", degenerateBelow);
 	wideSearchBelowGoodness = c.read_double(s, "wideSearchBelowGoodness", wideSearchBelowGoodness);
 	wideSearchLinear = c.read_double(s, "wideSearchLinear", wideSearchLinear);
@@ -64,11 +63,7 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	relocalizeAmbiguity = c.read_double(s, "relocalizeAmbiguity", relocalizeAmbiguity);
 	newGroundUnexplored = c.read_double(s, "newGroundUnexplored", newGroundUnexplored);
 	newGroundAfter = c.read_double(s, "newGroundAfter", newGroundAfter);
-	matchAtLeastEvery = c.read_double(s, "matchAtLeastEvery", matchAtLeastEvery);
 	matchWhenScanChanged = c.read_double(s, "matchWhenScanChanged", matchWhenScanChanged);
-	odometryPriorSigmaXY = c.read_double(s, "odometryPriorSigmaXY", odometryPriorSigmaXY);
-	odometryPriorSigmaPhi =
-		mrpt::DEG2RAD(c.read_double(s, "odometryPriorSigmaPhi_deg", mrpt::RAD2DEG(odometryPriorSigmaPhi)));
 	odometrySmoothing = c.read_bool(s, "odometrySmoothing", odometrySmoothing);
 	odometrySmoothingLag =
 		static_cast<unsigned>(c.read_int(s, "odometrySmoothingLag", static_cast<int>(odometrySmoothingLag)));
@@ -95,17 +90,12 @@ void MapBuilderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	need(relocalizeAmbiguity >= 0 && relocalizeAmbiguity <= 1, "relocalizeAmbiguity: expected 0..1 (0 = off)");
 	need(newGroundUnexplored >= 0 && newGroundUnexplored <= 1, "newGroundUnexplored: expected 0..1 (0 = off)");
 	need(newGroundAfter >= 0, "newGroundAfter: expected >= 0 s");
-	need(matchAtLeastEvery >= 0, "matchAtLeastEvery: expected >= 0 s (0 = off)");
 	need(matchWhenScanChanged >= 0 && matchWhenScanChanged <= 1, "matchWhenScanChanged: expected 0..1 (0 = off)");
 	need(degenerateBelow >= 0 && degenerateBelow < 1, "degenerateBelow: expected 0..1 (0 = off)");
 	need(mapInsertLinDistance >= 0 && mapInsertAngDistance >= 0, "mapInsertLinDistance, mapInsertAngDistance_deg: expected >= 0");
 	need((mapInsertLinDistance > 0) == (mapInsertAngDistance > 0),
 		 "mapInsertLinDistance and mapInsertAngDistance_deg: set both (> 0) or neither (0)");
 	need(mapInsertBelowInliers >= 0 && mapInsertBelowInliers <= 1, "mapInsertBelowInliers: expected 0..1");
-	need(odometryPriorSigmaXY >= 0, "odometryPriorSigmaXY: expected >= 0 m (0 = no prior)");
-	need(odometryPriorSigmaPhi >= 0, "odometryPriorSigmaPhi_deg: expected >= 0 (0 = no prior)");
-	need((odometryPriorSigmaXY > 0) == (odometryPriorSigmaPhi > 0),
-		 "odometryPriorSigmaXY and odometryPriorSigmaPhi_deg: set both (> 0) or neither (0)");
 	need(odometrySmoothingLag <= 100, "odometrySmoothingLag: expected 0..100 scans");
 	need(scanLatency >= 0 && scanLatency <= 1, "scanLatency: expected 0..1 s");
 	need(grid.resolution >= 0.005 && grid.resolution <= 2, "resolution: expected 0.005..2 m");
@@ -130,7 +120,7 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nmapInsertAngDistance_deg = " << mrpt::RAD2DEG(mapInsertAngDistance)
 		<< "\nmapInsertBelowInliers = " << mapInsertBelowInliers
 		<< "\nminPoints = " << minPoints << "\nminOverlapGoodness = " << minOverlapGoodness
-		<< "\nignoreUnexploredPoints = " << ignoreUnexploredPoints << "\ndegenerateBelow = " << degenerateBelow
+		<< "\ndegenerateBelow = " << degenerateBelow
 		<< "\nwideSearchBelowGoodness = " << wideSearchBelowGoodness << "\nwideSearchLinear = " << wideSearchLinear
 		<< "\nwideSearchAngular_deg = " << mrpt::RAD2DEG(wideSearchAngular)
 		<< "\nrelocalizeAfterGap = " << relocalizeAfterGap << "\nrelocalizeAfterJump = " << relocalizeAfterJump
@@ -138,9 +128,7 @@ void MapBuilderOptions::dumpToTextStream(std::ostream& out) const
 		<< "\nrelocalizeTurnRate_deg = " << mrpt::RAD2DEG(relocalizeTurnRate)
 		<< "\nrelocalizeMaxLinear = " << relocalizeMaxLinear << "\nrelocalizeOdometryError = " << relocalizeOdometryError
 		<< "\nrelocalizeAmbiguity = " << relocalizeAmbiguity
-		<< "\nnewGroundUnexplored = " << newGroundUnexplored << "\nnewGroundAfter = " << newGroundAfter << "\nmatchAtLeastEvery = " << matchAtLeastEvery << "\nmatchWhenScanChanged = " << matchWhenScanChanged
-		<< "\nodometryPriorSigmaXY = " << odometryPriorSigmaXY
-		<< "\nodometryPriorSigmaPhi_deg = " << mrpt::RAD2DEG(odometryPriorSigmaPhi)
+		<< "\nnewGroundUnexplored = " << newGroundUnexplored << "\nnewGroundAfter = " << newGroundAfter << "\nmatchWhenScanChanged = " << matchWhenScanChanged
 		<< "\nodometryToScanTime = " << odometryToScanTime << "\nscanLatency = " << scanLatency
 		<< "\nodometrySmoothing = " << odometrySmoothing << "\nodometrySmoothingLag = " << odometrySmoothingLag
 		<< "\nkeepSimpleMap = " << keepSimpleMap
@@ -182,7 +170,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_scans = m_matched = m_inserted = m_rejected = 0;
 	m_wideSearches = m_relocalizations = m_reanchored = 0;
 	m_gaps.clear();
-	m_lastScanTime = m_lastAcceptedTime = m_lastMatchTime = std::nan("");
+	m_lastScanTime = m_lastAcceptedTime = std::nan("");
 	m_lost = false;
 	m_last = ScanResult();
 	m_lastHits.clear();
@@ -300,11 +288,9 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		!odomNow || lin >= PM_options.insertionLinDistance || ang >= PM_options.insertionAngDistance;
 	// A robot that odometry says stands still is matched all the same when its scans say it moves
 	// (most ranges changed since the scan last matched or inserted: carried, pushed, or a logger that
-	// repeats a stale odometry reading) or, with matchAtLeastEvery, now and then.
-	const bool check =
-		!odometryMoved && !m_mapEmpty &&
-		((PM_options.matchAtLeastEvery > 0 && !(now - m_lastMatchTime < PM_options.matchAtLeastEvery)) ||
-		 (PM_options.matchWhenScanChanged > 0 && changedFraction(scan) > PM_options.matchWhenScanChanged));
+	// repeats a stale odometry reading).
+	const bool check = !odometryMoved && !m_mapEmpty &&
+					   (PM_options.matchWhenScanChanged > 0 && changedFraction(scan) > PM_options.matchWhenScanChanged);
 	const bool moved = odometryMoved || check;
 
 	// Where the prediction cannot be trusted, the match searches a wider window: while lost (the
@@ -350,14 +336,8 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		if (!m_mapEmpty && (moved || !mapUpdating()) && pts.hits.size() >= PM_options.minPoints)
 		{
 			const auto t0 = Clock::now();
-			std::optional<PerfectMatchMatcher::PosePrior> prior;
-			if (PM_options.odometryPriorSigmaXY > 0 && PM_options.odometryPriorSigmaPhi > 0)
-				prior = PerfectMatchMatcher::PosePrior::diagonal(r.predicted, PM_options.odometryPriorSigmaXY,
-																 PM_options.odometryPriorSigmaPhi);
-			const mrpt::math::TPose2D est =
-				matchScan(pts.hits, r.predicted, prior ? &*prior : nullptr, linWindow, angWindow, r, alwaysSearch);
+			const mrpt::math::TPose2D est = matchScan(pts.hits, r.predicted, linWindow, angWindow, r, alwaysSearch);
 			r.matchMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-			if (std::isfinite(now)) m_lastMatchTime = now;
 			keepReferenceRanges(scan);
 			// A periodic check that finds the robot where odometry says keeps the prediction: only
 			// a real displacement (the robot was carried, pushed) moves it, not matching jitter.
@@ -548,24 +528,13 @@ bool PerfectMatchSlam::acceptable(const PerfectMatchMatcher::MatchInfo& info) co
 }
 
 mrpt::math::TPose2D PerfectMatchSlam::matchScan(const std::vector<mrpt::math::TPoint2Df>& hits,
-												 const mrpt::math::TPose2D& predicted,
-												 const PerfectMatchMatcher::PosePrior* prior, double linWindow,
+												 const mrpt::math::TPose2D& predicted, double linWindow,
 												 double angWindow, ScanResult& r, bool alwaysSearch)
 {
 	const DynamicDistanceMap& dm = m_grid->distanceMap();
-	// PM from `start`. Points in unexplored space far from any obstacle are left out of the
-	// optimisation (see informativePoints); goodness and inliers are of the whole scan.
+	// PM from `start`.
 	auto align = [&](const mrpt::math::TPose2D& start, PerfectMatchMatcher::MatchInfo& info) {
-		if (!PM_options.ignoreUnexploredPoints) return m_matcher.alignPoints(dm, hits, start, &info, nullptr, prior);
-		std::vector<mrpt::math::TPoint2Df> used;
-		for (std::size_t i : m_grid->informativePoints(hits, start)) used.push_back(hits[i]);
-		if (used.size() < PM_options.minPoints) used = hits;
-		PerfectMatchMatcher::MatchInfo own;
-		const mrpt::math::TPose2D p = m_matcher.alignPoints(dm, used, start, &own, nullptr, prior);
-		info = m_matcher.evaluate(dm, hits, p);
-		info.nIterations = own.nIterations;
-		info.hessian = own.hessian;	 // the curvature of what was optimised: no frontier pull in it
-		return p;
+		return m_matcher.alignPoints(dm, hits, start, &info);
 	};
 	mrpt::math::TPose2D best = align(predicted, r.info);
 	// The cheap test: a match that explains the scan well needs no search, whatever came before

@@ -74,11 +74,6 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	double mapInsertLinDistance = 0.3;
 	double mapInsertAngDistance = mrpt::DEG2RAD(6.0);
 	double mapInsertBelowInliers = 0.95;
-	/** Odometry prior of each match: standard deviations (m, rad) of the prediction's error
-	 * (0 = no prior, the plain PM cost). Along directions the scan cannot see (a corridor)
-	 * the pose then stays where odometry put it instead of sliding. */
-	double odometryPriorSigmaXY = 0.0;
-	double odometryPriorSigmaPhi = 0.0;
 	/** Odometry at the scan's time, for the reported trajectory's smoother: when a scan comes
 	 * without odometry of its own, or with a copy of the latest odometry reading (Carmen loggers
 	 * that stamp FLASER lines with the last ODOM message: aces, intel), the odometry given to the
@@ -104,11 +99,6 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * (a random pose scores ~0.2; 0 = off, only minGoodness). Without it a turn into an unmapped
 	 * corridor is rejected, not inserted, and the map never grows there again. */
 	double minOverlapGoodness = 0.6;
-	/** Leave out of the match the points that land in unexplored space more than two cells from
-	 * any obstacle (OccupancyDistanceGridMap::informativePoints): beyond the end of a mapped wall
-	 * they pull the robot back towards the known part, which along a plain corridor is the only
-	 * pull there is, and the trajectory comes up short. */
-	bool ignoreUnexploredPoints = false;
 	/** Degenerate directions: where the match's information on the position (heading fitted too;
 	 * each point pulling only across its surface, SurfaceNormals.h) is below degenerateBelow times
 	 * its largest eigenvalue, the scan does not fix the position along that direction (a plain
@@ -147,10 +137,6 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * odometry pose so that the map grows again and later scans match it (0 = never). */
 	double newGroundUnexplored = 0.8;
 	double newGroundAfter = 2.0;
-	/** Match a scan at least this often (s of log) even when odometry says the robot stands still
-	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
-	 * wheels moves without its odometry knowing. */
-	double matchAtLeastEvery = 0.0;
 	/** Match a scan that odometry says was taken standing still when more than this fraction of its
 	 * ranges changed by over 0.1 m since the scan last matched or inserted (0 = never): the scans say
 	 * the robot moves (carried, pushed, or a logger repeating a stale odometry reading). */
@@ -314,13 +300,12 @@ class PerfectMatchSlam
 	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0;
 	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0;
 	std::vector<TrackingGap> m_gaps;
-	double m_lastScanTime = std::nan(""), m_lastAcceptedTime = std::nan(""), m_lastMatchTime = std::nan("");
+	double m_lastScanTime = std::nan(""), m_lastAcceptedTime = std::nan("");
 	bool m_lost = false;  // the last match was rejected
 	/** PM from the prediction, and the wide search where that is not good enough (or always, with
 	 * `alwaysSearch`: a prediction known to be stale, where a good-looking match may be a look-alike). */
 	mrpt::math::TPose2D matchScan(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& predicted,
-								  const PerfectMatchMatcher::PosePrior* prior, double linWindow, double angWindow,
-								  ScanResult& r, bool alwaysSearch = false);
+								  double linWindow, double angWindow, ScanResult& r, bool alwaysSearch = false);
 	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
 	/** The curvature of the match of `hits` at `pose` with each point pulling only across its surface. */
 	Eigen::Matrix3d surfaceCurvature(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& pose) const;
