@@ -15,6 +15,15 @@
  * the prediction, and inserted at the corrected pose. Scans below the threshold
  * keep the odometry-propagated pose. Every scan gets a pose.
  *
+ * The front-end is a pipeline of small parts that processScan() wires, each made
+ * anew from the options by initialize(): MotionModel (odometry as a measurement:
+ * the prediction, and how far to trust it), KeyframeGate (which scans are matched,
+ * which go into the map), StandstillCheck (a robot odometry says stands still while
+ * its scans say it moves), HypothesisSearch (the match from the prediction, the wide
+ * and re-localisation searches), DegenerateDirections (the prediction kept along a
+ * plain corridor), Tracker (tracking, ambiguous, lost, new ground; the untracked
+ * gaps) and FrameHistory (the frames of the loop closure's corrections).
+ *
  * Localisation: initializeWithFixedMap() loads a prior COccupancyGridMap2D
  * and turns map updating off; every scan is then matched against that fixed
  * map and nothing is inserted.
@@ -39,8 +48,15 @@
 #include <mrpt/poses/CPose3DPDF.h>
 #include <mrpt/poses/CPosePDF.h>
 #include <pmslam/graph/LoopClosure.h>
+#include <pmslam/slam/DegenerateDirections.h>
+#include <pmslam/slam/FrameHistory.h>
+#include <pmslam/slam/HypothesisSearch.h>
+#include <pmslam/slam/KeyframeGate.h>
 #include <pmslam/slam/KeyframeStore.h>
+#include <pmslam/slam/MotionModel.h>
 #include <pmslam/slam/OdometrySmoother.h>
+#include <pmslam/slam/StandstillCheck.h>
+#include <pmslam/slam/Tracker.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
 #include <pmslam/match/PerfectMatchMatcher.h>
 
@@ -74,11 +90,6 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	double mapInsertLinDistance = 0.3;
 	double mapInsertAngDistance = mrpt::DEG2RAD(6.0);
 	double mapInsertBelowInliers = 0.95;
-	/** Odometry prior of each match: standard deviations (m, rad) of the prediction's error
-	 * (0 = no prior, the plain PM cost). Along directions the scan cannot see (a corridor)
-	 * the pose then stays where odometry put it instead of sliding. */
-	double odometryPriorSigmaXY = 0.0;
-	double odometryPriorSigmaPhi = 0.0;
 	/** Odometry at the scan's time, for the reported trajectory's smoother: when a scan comes
 	 * without odometry of its own, or with a copy of the latest odometry reading (Carmen loggers
 	 * that stamp FLASER lines with the last ODOM message: aces, intel), the odometry given to the
@@ -104,11 +115,6 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * (a random pose scores ~0.2; 0 = off, only minGoodness). Without it a turn into an unmapped
 	 * corridor is rejected, not inserted, and the map never grows there again. */
 	double minOverlapGoodness = 0.6;
-	/** Leave out of the match the points that land in unexplored space more than two cells from
-	 * any obstacle (OccupancyDistanceGridMap::informativePoints): beyond the end of a mapped wall
-	 * they pull the robot back towards the known part, which along a plain corridor is the only
-	 * pull there is, and the trajectory comes up short. */
-	bool ignoreUnexploredPoints = false;
 	/** Degenerate directions: where the match's information on the position (heading fitted too;
 	 * each point pulling only across its surface, SurfaceNormals.h) is below degenerateBelow times
 	 * its largest eigenvalue, the scan does not fix the position along that direction (a plain
@@ -147,10 +153,6 @@ struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 	 * odometry pose so that the map grows again and later scans match it (0 = never). */
 	double newGroundUnexplored = 0.8;
 	double newGroundAfter = 2.0;
-	/** Match a scan at least this often (s of log) even when odometry says the robot stands still
-	 * (0 = only after the insertion thresholds): a robot carried, pushed or slipping with locked
-	 * wheels moves without its odometry knowing. */
-	double matchAtLeastEvery = 0.0;
 	/** Match a scan that odometry says was taken standing still when more than this fraction of its
 	 * ranges changed by over 0.1 m since the scan last matched or inserted (0 = never): the scans say
 	 * the robot moves (carried, pushed, or a logger repeating a stale odometry reading). */
@@ -273,16 +275,10 @@ class PerfectMatchSlam
 	std::size_t relocalizations() const { return m_relocalizations; }
 	std::size_t reanchorings() const { return m_reanchored; }
 
-	/** A stretch of the log where no match was accepted: from the first rejected scan to the next
-	 * accepted one (or the last scan), in scan timestamps (s). Every pose in it is odometry only. */
-	struct TrackingGap
-	{
-		double from = 0, to = 0;
-		std::size_t scans = 0;	///< rejected scans in it
-		bool open = true;  ///< still going at the last scan
-	};
+	/** A stretch of the log where no match was accepted (see Tracker.h). */
+	using TrackingGap = pmslam::TrackingGap;
 	/** Every such stretch so far, oldest first. */
-	const std::vector<TrackingGap>& trackingGaps() const { return m_gaps; }
+	const std::vector<TrackingGap>& trackingGaps() const { return m_tracker->gaps(); }
 
 	/** Whether scans are inserted into the map (off after initializeWithFixedMap()). */
 	virtual bool mapUpdating() const { return m_mapUpdating; }
@@ -302,53 +298,33 @@ class PerfectMatchSlam
 	mrpt::maps::CSimpleMap m_initialKeyframes;  // of initialize(initialMap), kept as given
 	KeyframeStore m_keyframes;	// the scans inserted since, compact
 	PerfectMatchMatcher m_matcher;
-	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
-	mrpt::math::TPose2D m_lastInsertPose{0, 0, 0};
-	mrpt::math::TPose2D m_lastMapPose{0, 0, 0};  // pose of the last scan inserted into the grid
-	std::optional<mrpt::math::TPose2D> m_odometry;	// latest reading
-	// The last two timed readings (time s, pose), oldest first, for odometryToScanTime.
-	std::optional<std::pair<double, mrpt::math::TPose2D>> m_timedOdometry[2];
-	std::size_t m_timedReadings = 0, m_burstReadings = 0;
-	std::optional<mrpt::math::TPose2D> odometryAtTime(double t) const;
-	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
+	// The front-end's parts, made anew from the options by initialize().
+	std::optional<MotionModel> m_motion;
+	std::optional<KeyframeGate> m_gate;
+	std::optional<StandstillCheck> m_standstill;
+	std::optional<HypothesisSearch> m_hypotheses;
+	std::optional<DegenerateDirections> m_degenerate;
+	std::optional<Tracker> m_tracker;
 	std::optional<OdometrySmoother> m_smoother;
+	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	bool m_mapEmpty = true;
 	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0;
 	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0;
-	std::vector<TrackingGap> m_gaps;
-	double m_lastScanTime = std::nan(""), m_lastAcceptedTime = std::nan(""), m_lastMatchTime = std::nan("");
-	bool m_lost = false;  // the last match was rejected
-	/** PM from the prediction, and the wide search where that is not good enough (or always, with
-	 * `alwaysSearch`: a prediction known to be stale, where a good-looking match may be a look-alike). */
-	mrpt::math::TPose2D matchScan(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& predicted,
-								  const PerfectMatchMatcher::PosePrior* prior, double linWindow, double angWindow,
-								  ScanResult& r, bool alwaysSearch = false);
-	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
-	/** The curvature of the match of `hits` at `pose` with each point pulling only across its surface. */
-	Eigen::Matrix3d surfaceCurvature(const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& pose) const;
-	/** The direction (unit, map frame) along which `hessian` leaves the position unconstrained, if any. */
-	struct WeakDirection
-	{
-		Eigen::Vector2d direction;	///< unit vector the scan barely constrains the position along
-		double matchShare = 0;		///< 0: the prediction decides there; towards 1: the match does
-	};
-	std::optional<WeakDirection> weakDirection(const Eigen::Matrix3d& hessian) const;
 	ScanResult m_last;
 	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
-	std::vector<float> m_referenceRanges;  // of the scan last matched or inserted (0 = invalid)
-	/** Fraction of the beams valid in this scan and the reference scan whose range changed by > 0.1 m. */
-	double changedFraction(const mrpt::obs::CObservation2DRangeScan& scan) const;
-	void keepReferenceRanges(const mrpt::obs::CObservation2DRangeScan& scan);
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
-	// Loop closure. The front-end's frame moves with each new map (m_frame: the product of the
-	// corrections so far); the smoother and the final trajectory work in the first frame.
+	// Loop closure: the back-end, and the frames the front-end worked in as its maps came in.
 	std::unique_ptr<LoopClosure> m_loops;
-	bool m_trackedSinceKeyframe = true;
-	bool m_searchedSinceKeyframe = false;  // a match since the last keyframe re-localised
-	mrpt::poses::CPose2D m_frame;
-	std::vector<mrpt::poses::CPose2D> m_frames;	 // every m_frame so far, first = identity
-	std::vector<uint32_t> m_scanFrame, m_scanAnchor;  // per scan: index into m_frames, latest keyframe
-	std::vector<mrpt::math::TPose2D> m_nodeInFirstFrame;  // per keyframe
+	FrameHistory m_frames;
+
+	// The steps of processScan().
+	MotionPrediction predict(const mrpt::obs::CObservation2DRangeScan& scan,
+							 const std::optional<mrpt::math::TPose2D>& odometryAtScan);
+	std::optional<TrackingState> matchScan(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPoints& pts,
+										   const MotionPrediction& motion, const SearchWindow& window,
+										   bool standstillCheck, ScanResult& r);
+	void insertKeyframe(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPoints& pts, double now,
+						ScanResult& r);
 	void applyMapCorrection(LoopClosure::Update& u, ScanResult& r);
 };
 

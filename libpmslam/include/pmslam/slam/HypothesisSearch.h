@@ -1,0 +1,85 @@
+/* pmslam — pose hypotheses for a scan, and which one explains it best.
+ *
+ * The first hypothesis is the Perfect Match from the prediction. Where that match
+ * explains the scan poorly (below wideSearchBelowGoodness: a fast spin, a wheel
+ * slip), or the prediction is stale (a lidar alone after a gap), a correlative
+ * search over a window around the prediction proposes other starting poses, each
+ * refined by PM and scored by its goodness; a pose away from the prediction must
+ * beat the match there by a margin.
+ *
+ * The window says how far the prediction may be off: the wide basin
+ * (wideSearchLinear, wideSearchAngular) normally; growing with the time since the
+ * last accepted match while lost (the odometry itself may be wrong: a robot
+ * carried); with the odometry's distance and turn over a gap or a jump; with the
+ * time of a stale prediction. A window wider than the wide basin is a
+ * re-localisation, and holds look-alike places: when a clearly different pose
+ * explains the scan nearly as well as the best (relocalizeAmbiguity), nothing is
+ * decided and the next scans search again.
+ */
+#pragma once
+
+#include <mrpt/math/TPoint2D.h>
+#include <mrpt/math/TPose2D.h>
+#include <pmslam/map/DynamicDistanceMap.h>
+#include <pmslam/match/PerfectMatchMatcher.h>
+#include <pmslam/slam/MotionModel.h>
+
+#include <utility>
+#include <vector>
+
+namespace pmslam
+{
+/** The MapBuilderOptions fields of the same names (see there for their defaults and why);
+ * PerfectMatchSlam fills them. */
+struct HypothesisSearchOptions
+{
+	double wideSearchBelowGoodness = 0;	 ///< 0 = never search
+	double wideSearchLinear = 0, wideSearchAngular = 0;	 ///< m, rad
+	double relocalizeSpeed = 0, relocalizeTurnRate = 0;	 ///< m/s, rad/s
+	double relocalizeOdometryError = 0;
+	double relocalizeMaxLinear = 0;	 ///< m
+	double relocalizeAmbiguity = 0;	 ///< 0 = off
+};
+
+/** Where the search looks: ±linear (m) in x and y and ±angular (rad) around the prediction. */
+struct SearchWindow
+{
+	double linear = 0, angular = 0;
+	/** The prediction is stale: search even when the match there looks good (it may be a look-alike
+	 * a few metres back), and let the best explanation of the scan win. */
+	bool alwaysSearch = false;
+};
+
+/** The pose chosen for a scan, and how it was found. */
+struct Hypothesis
+{
+	mrpt::math::TPose2D pose;
+	PerfectMatchMatcher::MatchInfo info;  ///< of the match at `pose`
+	bool wideSearch = false;  ///< the window was searched
+	bool relocalized = false;  ///< a pose from the search beat the match from the prediction
+	bool undecided = false;	 ///< a stale prediction's search found look-alike poses: nothing decided
+};
+
+class HypothesisSearch
+{
+   public:
+	explicit HypothesisSearch(const HypothesisSearchOptions& options) : m_options(options) {}
+
+	/** The window for a scan predicted by `motion`; `lost`: the last match was rejected,
+	 * `sinceAccepted` s ago. */
+	SearchWindow window(const MotionPrediction& motion, bool lost, double sinceAccepted) const;
+
+	/** PM of `hits` (robot frame) from `predicted`, and the search of `window` where that is not
+	 * good enough (or always, with window.alwaysSearch). */
+	Hypothesis search(const PerfectMatchMatcher& matcher, const DynamicDistanceMap& map,
+					  const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& predicted,
+					  const SearchWindow& window) const;
+
+   private:
+	HypothesisSearchOptions m_options;
+	/** A refined candidate clearly away from `best` scores within relocalizeAmbiguity of `bestGoodness`. */
+	bool lookAlike(const std::vector<std::pair<mrpt::math::TPose2D, double>>& refined, const mrpt::math::TPose2D& best,
+				   double bestGoodness) const;
+};
+
+}  // namespace pmslam

@@ -1,0 +1,88 @@
+/* pmslam — odometry as a measurement: the front-end's motion model.
+ *
+ * Odometry reaches the front-end in three ways: readings (processOdometry(), timed
+ * or not), increments (MRPT actions) and a scan's own reading (Carmen FLASER lines).
+ * This part turns them into the prediction of each scan's pose: the previous
+ * scan's estimate moved by the odometry increment since that scan. It also says
+ * how far the prediction can be trusted, for the search window of the match:
+ * - a glitch: an increment no robot can make (a reset, a corrupt reading) is
+ *   ignored, and the prediction is the previous estimate;
+ * - a gap: a long time between two scans (scans missing, nothing logged);
+ * - a jump: a long odometry step between two scans;
+ * - a stale prediction: a gap without any odometry (a lidar alone), across which
+ *   the robot went anywhere it could drive.
+ * For the reported trajectory's smoother it moves a copied reading to the scan's
+ * time (odometryToScanTime); the prediction keeps the reading as it is.
+ *
+ * Why a part of its own: every question about odometry (its source, its timing,
+ * its glitches, its gaps) is answered here once; the rest of the front-end reads
+ * a MotionPrediction.
+ */
+#pragma once
+
+#include <mrpt/core/Clock.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <utility>
+
+namespace pmslam
+{
+/** The MapBuilderOptions fields of the same names (see there for their defaults and why);
+ * PerfectMatchSlam fills them. */
+struct MotionModelOptions
+{
+	bool odometryToScanTime = false;
+	double scanLatency = 0;	 ///< s
+	double relocalizeAfterGap = 0;	///< s between two scans: longer is a gap
+	double relocalizeAfterJump = 0;	 ///< m of odometry between two scans: longer is a jump
+};
+
+/** A scan's predicted pose and what is known of the motion since the previous scan. */
+struct MotionPrediction
+{
+	mrpt::math::TPose2D pose;  ///< the previous estimate moved by the odometry increment (map frame)
+	std::optional<mrpt::math::TPose2D> odometry;  ///< the reading the prediction used (none: no odometry)
+	std::optional<mrpt::math::TPose2D> odometryAtScanTime;	///< the same moved to the scan's time, for the smoother
+	double time = std::nan("");	 ///< the scan's timestamp (s; NaN: unknown)
+	double sincePrevious = std::nan("");  ///< s since the previous timed scan (NaN: unknown)
+	double step = 0, turn = 0;	///< odometry's distance (m) and turn (rad) since the previous scan
+	bool glitch = false;  ///< the odometry step was implausible and is ignored
+	bool gap = false;  ///< more than relocalizeAfterGap since the previous scan
+	bool jump = false;	///< odometry stepped more than relocalizeAfterJump
+	bool stale = false;	 ///< a gap without any odometry: the prediction is where the robot was
+};
+
+class MotionModel
+{
+   public:
+	explicit MotionModel(const MotionModelOptions& options) : m_options(options) {}
+
+	/** The latest odometry reading of the robot base (any frame; only increments are used), with
+	 * its time (s; NaN = unknown). */
+	void addReading(const mrpt::math::TPose2D& odometry, double timestamp);
+	/** An odometry increment (an MRPT action), accumulated into a reading. */
+	void addIncrement(const mrpt::poses::CPose2D& change);
+	/** The prediction for a scan stamped `stamp` (INVALID_TIMESTAMP: unknown) from `estimate`, the
+	 * previous scan's pose; `odometryAtScan`: the scan's own reading, which takes precedence over
+	 * addReading()'s. Moves the model on to this scan. */
+	MotionPrediction predict(const mrpt::Clock::time_point& stamp,
+							 const std::optional<mrpt::math::TPose2D>& odometryAtScan,
+							 const mrpt::math::TPose2D& estimate);
+
+   private:
+	MotionModelOptions m_options;
+	std::optional<mrpt::math::TPose2D> m_odometry;	// latest reading
+	// The last two timed readings (time s, pose), oldest first, for odometryToScanTime.
+	std::optional<std::pair<double, mrpt::math::TPose2D>> m_timedOdometry[2];
+	std::size_t m_timedReadings = 0, m_burstReadings = 0;
+	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
+	double m_lastScanTime = std::nan("");
+	/** Odometry extrapolated to time `t` from the last two timed readings (none for a bursty stream). */
+	std::optional<mrpt::math::TPose2D> odometryAtTime(double t) const;
+};
+
+}  // namespace pmslam

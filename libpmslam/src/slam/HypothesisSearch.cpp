@@ -1,0 +1,108 @@
+/* pmslam — pose hypotheses for a scan (see HypothesisSearch.h). */
+#include <mrpt/core/bits_math.h>
+#include <mrpt/math/wrap2pi.h>
+#include <pmslam/match/CorrelativeSearch.h>
+#include <pmslam/slam/HypothesisSearch.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace pmslam
+{
+SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost, double sinceAccepted) const
+{
+	SearchWindow w;
+	w.linear = m_options.wideSearchLinear;
+	w.angular = m_options.wideSearchAngular;
+	if (lost)
+	{
+		// Matches rejected: the odometry may be what is wrong (a robot carried, a wheel slipping),
+		// so the window grows with the time since the last accepted match.
+		w.linear += m_options.relocalizeSpeed * sinceAccepted;
+		w.angular += m_options.relocalizeTurnRate * sinceAccepted;
+	}
+	if (motion.gap || motion.jump)
+	{
+		// A long step between two scans (no scan logged meanwhile): the prediction is as good as
+		// the odometry over that step, off by a fraction of the distance and of the turn.
+		w.linear += m_options.relocalizeOdometryError * motion.step;
+		w.angular += m_options.relocalizeOdometryError * std::abs(motion.turn);
+	}
+	// A stale prediction (no odometry across a gap) is searched even when the match there looks
+	// good, and, without odometry, until a search has decided where the robot is: the prediction
+	// stays the stale one.
+	w.alwaysSearch = motion.stale || (lost && !motion.odometry);
+	if (motion.stale)
+	{
+		w.linear += m_options.relocalizeSpeed * motion.sincePrevious;
+		w.angular += m_options.relocalizeTurnRate * motion.sincePrevious;
+	}
+	w.linear = std::min(w.linear, m_options.relocalizeMaxLinear);
+	w.angular = std::min(w.angular, M_PI);
+	return w;
+}
+
+Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const DynamicDistanceMap& map,
+									const std::vector<mrpt::math::TPoint2Df>& hits, const mrpt::math::TPose2D& predicted,
+									const SearchWindow& window) const
+{
+	Hypothesis h;
+	h.pose = matcher.alignPoints(map, hits, predicted, &h.info);
+	// The cheap test: a match that explains the scan well needs no search, whatever came before
+	// (after a gap, a jump or a rejection the window is only wider).
+	const bool poor = m_options.wideSearchBelowGoodness > 0 && h.info.goodness < m_options.wideSearchBelowGoodness;
+	if ((!poor && !window.alwaysSearch) || (window.linear <= 0 && window.angular <= 0)) return h;
+	h.wideSearch = true;
+
+	const std::vector<CorrelativeSearch::Candidate> starts =
+		CorrelativeSearch::coarseToFine(map, hits, predicted, window.linear, window.angular);
+	// A pose away from the prediction must be clearly better than the match there, and explain
+	// the scan as a normal match does: after a gap or in a look-alike place a mediocre candidate
+	// is more often a wrong pose than a right one. A stale prediction (alwaysSearch) has no such
+	// claim: the best explanation of the scan wins.
+	const double margin = window.alwaysSearch ? 0.0 : 0.15;
+	double bestGoodness = std::max(h.info.goodness + margin, m_options.wideSearchBelowGoodness);
+	// A re-localisation window (wider than the wide basin's) holds look-alike places.
+	const bool relocalizing = window.linear > m_options.wideSearchLinear + 1e-9 ||
+							  window.angular > m_options.wideSearchAngular + 1e-9;
+	std::vector<std::pair<mrpt::math::TPose2D, double>> refined;	 // every candidate, refined, and its score
+	const Hypothesis atPrediction = h;
+	for (const auto& c : starts)
+	{
+		PerfectMatchMatcher::MatchInfo info;
+		const mrpt::math::TPose2D p = matcher.alignPoints(map, hits, c.pose, &info);
+		refined.emplace_back(p, info.goodness);
+		if (info.goodness > bestGoodness)
+		{
+			bestGoodness = info.goodness;
+			h.pose = p;
+			h.info = info;
+			h.relocalized = true;
+		}
+	}
+	// In a re-localisation window, a clearly different pose that explains the scan nearly as well
+	// (a look-alike room, a repetitive corridor) leaves the pose undecided: keep searching on the
+	// next scans, from where the robot moves to somewhere that tells them apart.
+	if (h.relocalized && relocalizing && m_options.relocalizeAmbiguity > 0 && lookAlike(refined, h.pose, bestGoodness))
+	{
+		h = atPrediction;
+		// A stale prediction is no fallback: where a lidar alone was before a gap it is not now.
+		h.undecided = window.alwaysSearch;
+	}
+	return h;
+}
+
+bool HypothesisSearch::lookAlike(const std::vector<std::pair<mrpt::math::TPose2D, double>>& refined,
+								 const mrpt::math::TPose2D& best, double bestGoodness) const
+{
+	for (const auto& [p, g] : refined)
+	{
+		const bool distinct = std::hypot(p.x - best.x, p.y - best.y) > 0.5 ||
+							  std::abs(mrpt::math::wrapToPi(p.phi - best.phi)) > mrpt::DEG2RAD(5.0);
+		if (distinct && g > bestGoodness - m_options.relocalizeAmbiguity) return true;
+	}
+	return false;
+}
+
+}  // namespace pmslam

@@ -1,0 +1,73 @@
+/* pmslam — the front-end's tracking state (see Tracker.h). */
+#include <pmslam/slam/Tracker.h>
+
+namespace pmslam
+{
+double Tracker::sinceAccepted(double now) const
+{
+	return std::isfinite(now - m_lastAcceptedTime) ? now - m_lastAcceptedTime : 0.0;
+}
+
+bool Tracker::acceptable(const PerfectMatchMatcher::MatchInfo& info) const
+{
+	if (info.goodness >= m_options.minGoodness) return true;
+	// Mostly new ground: trust the part that overlaps the map, if there is enough of it.
+	return m_options.minOverlapGoodness > 0 && info.inlierGoodness >= m_options.minOverlapGoodness &&
+		   info.inlierFraction * info.nPoints >= m_options.minPoints;
+}
+
+TrackingState Tracker::judge(const PerfectMatchMatcher::MatchInfo& info, bool undecided, double now,
+							 const std::function<double()>& unexploredFraction) const
+{
+	if (!undecided && acceptable(info)) return TrackingState::Tracking;
+	// Lost for a while and the scan lies in space no scan has observed yet, at the prediction:
+	// the robot is on new ground (after a gap it drove somewhere never mapped). Nothing can be
+	// matched, so the scan goes in at the odometry pose and the map grows from there on. A scan
+	// over mapped space that does not match (the prediction is off) keeps being rejected instead
+	// of corrupting the map.
+	const double lostFor = m_gaps.empty() || !m_gaps.back().open ? 0.0 : now - m_gaps.back().from;
+	if (m_options.newGroundUnexplored > 0 && lostFor >= m_options.newGroundAfter &&
+		unexploredFraction() >= m_options.newGroundUnexplored)
+		return TrackingState::NewGround;
+	return undecided ? TrackingState::Ambiguous : TrackingState::Lost;
+}
+
+Tracker::KeyframeEvidence Tracker::keyframeEvidence(bool matched, bool relocalized, bool first) const
+{
+	return {(matched || first) && m_trackedSinceKeyframe, m_searchedSinceKeyframe || (matched && relocalized)};
+}
+
+void Tracker::update(const std::optional<TrackingState>& verdict, bool relocalized, bool keyframe, double now)
+{
+	const bool matched = verdict == TrackingState::Tracking;
+	// A keyframe starts the back-end's record afresh; a match placed by a re-localisation since
+	// makes the next keyframe's pose a hypothesis for it.
+	if (keyframe)
+	{
+		m_trackedSinceKeyframe = true;
+		m_searchedSinceKeyframe = false;
+	}
+	else if (matched && relocalized)
+		m_searchedSinceKeyframe = true;
+	if (!verdict) return;
+	m_state = *verdict;
+	// A rejected match opens (or extends) a gap, an accepted one closes it.
+	if (!matched)
+	{
+		m_trackedSinceKeyframe = false;
+		if (m_gaps.empty() || !m_gaps.back().open) m_gaps.push_back({now, now, 0, true});
+		m_gaps.back().to = now;
+		++m_gaps.back().scans;
+	}
+	else
+	{
+		if (!m_gaps.empty() && m_gaps.back().open)
+		{
+			m_gaps.back().to = now;
+			m_gaps.back().open = false;
+		}
+		m_lastAcceptedTime = now;
+	}
+}
+
+}  // namespace pmslam
