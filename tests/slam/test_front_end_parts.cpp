@@ -184,8 +184,8 @@ TEST(Tracker, AKeyframeAfterARejectionIsNotTracked)
 TEST(KeyframeGate, MatchesPastTheThresholdsAndInsertsOnlyWhatTheMapDoesNotExplain)
 {
 	pmslam::KeyframeGateOptions o;
-	o.insertionLinDistance = 0.01;
-	o.insertionAngDistance = mrpt::DEG2RAD(2.0);
+	o.matchLinDistance = 0.01;
+	o.matchAngDistance = mrpt::DEG2RAD(2.0);
 	o.mapInsertLinDistance = 0.3;
 	o.mapInsertAngDistance = mrpt::DEG2RAD(6.0);
 	o.mapInsertBelowInliers = 0.95;

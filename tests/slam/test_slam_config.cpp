@@ -167,8 +167,8 @@ TEST(SlamConfig, OldNamesAndRemovedKeysStillLoad)
 	const auto c = parseSlamConfig("[MappingApplication]\ninsertionLinDistance = 0.2\ninsertionAngDistance_deg = 4\n"
 								   "matchAtLeastEvery = 0\n[PerfectMatch]\nrpropPatience = 5\n",
 								   "old.ini");
-	EXPECT_NEAR(c.mapping.insertionLinDistance, 0.2, 1e-12);
-	EXPECT_NEAR(c.mapping.insertionAngDistance, mrpt::DEG2RAD(4.0), 1e-12);
+	EXPECT_NEAR(c.mapping.matchLinDistance, 0.2, 1e-12);
+	EXPECT_NEAR(c.mapping.matchAngDistance, mrpt::DEG2RAD(4.0), 1e-12);
 	ASSERT_EQ(c.notes.size(), 2u);
 	EXPECT_NE(c.notes[0].find("insertionLinDistance as matchLinDistance"), std::string::npos) << c.notes[0];
 	EXPECT_NE(c.notes[1].find("matchAtLeastEvery"), std::string::npos) << c.notes[1];
@@ -205,7 +205,7 @@ TEST(SlamConfig, OverridesApply)
 								   {"PerfectMatch.sigma=0.2", "MappingApplication.matchAngDistance_deg=10",
 									"PerfectMatch.optimizer=GaussNewton", "Log.odometrySource=events"});
 	EXPECT_DOUBLE_EQ(c.matcher.sigma, 0.2);
-	EXPECT_NEAR(c.mapping.insertionAngDistance, 10 * M_PI / 180, 1e-12);
+	EXPECT_NEAR(c.mapping.matchAngDistance, 10 * M_PI / 180, 1e-12);
 	EXPECT_EQ(c.matcher.optimizer, pmslam::PerfectMatchMatcher::Optimizer::GaussNewton);
 	EXPECT_EQ(c.odometrySource, pmslam::OdometrySource::Events);
 }
@@ -282,8 +282,8 @@ minDistBetweenLaserPoints   = 0.05
 resolution = 0.1
 )";
 	const pmslam::SlamConfig c = parseSlamConfig(ini, "my-icp-slam.ini");
-	EXPECT_NEAR(c.mapping.insertionLinDistance, 0.2, 1e-12);  // icp-slam's "localization" = when a scan is matched
-	EXPECT_NEAR(c.mapping.insertionAngDistance, mrpt::DEG2RAD(5.0), 1e-12);
+	EXPECT_NEAR(c.mapping.matchLinDistance, 0.2, 1e-12);  // icp-slam's "localization" = when a scan is matched
+	EXPECT_NEAR(c.mapping.matchAngDistance, mrpt::DEG2RAD(5.0), 1e-12);
 	EXPECT_NEAR(c.mapping.mapInsertLinDistance, 1.2, 1e-12);	// its "insertion" = when it goes into the map
 	EXPECT_NEAR(c.mapping.mapInsertAngDistance, mrpt::DEG2RAD(45.0), 1e-12);
 	EXPECT_NEAR(c.mapping.grid.resolution, 0.1, 1e-12);
@@ -296,10 +296,10 @@ resolution = 0.1
 	// Untouched keys keep pmslam's defaults; --set uses pmslam's names.
 	EXPECT_EQ(c.mapping.minGoodness, pmslam::MapBuilderOptions().minGoodness);
 	const pmslam::SlamConfig o = parseSlamConfig(ini, "my-icp-slam.ini", {"MappingApplication.matchLinDistance=0.05"});
-	EXPECT_NEAR(o.mapping.insertionLinDistance, 0.05, 1e-12);
+	EXPECT_NEAR(o.mapping.matchLinDistance, 0.05, 1e-12);
 	// A pmslam file is not taken for one.
 	EXPECT_TRUE(parseSlamConfig("[MappingApplication]\nmatchLinDistance = 0.3\n", "p.ini").notes.empty());
-	EXPECT_NEAR(parseSlamConfig("[MappingApplication]\nmatchLinDistance = 0.3\n", "p.ini").mapping.insertionLinDistance, 0.3, 1e-12);
+	EXPECT_NEAR(parseSlamConfig("[MappingApplication]\nmatchLinDistance = 0.3\n", "p.ini").mapping.matchLinDistance, 0.3, 1e-12);
 }
 
 TEST(SlamConfig, IcpSlamFileWithWhatPmslamCannotHonourIsAnError)

@@ -32,7 +32,7 @@ std::vector<config::Key<P>> makeKeys()
 	return {
 		config::word<P>(
 			"optimizer", {"RPROP", "GaussNewton", "LevenbergMarquardt"}, Level::Basic,
-			"Optimiser of the pose: RPROP (the paper's), GaussNewton or LevenbergMarquardt on the same cost.",
+			"Optimiser of the pose: RPROP (the paper's), GaussNewton or LevenbergMarquardt on the same cost (D3).",
 			[](auto& o) -> auto& { return o.optimizer; },
 			[](PerfectMatchMatcher::Optimizer v) { return toString(v); }, optimizerFrom),
 		config::word<P>("robustKernel", {"PerfectMatch", "None", "Huber"}, Level::Expert,
@@ -42,7 +42,7 @@ std::vector<config::Key<P>> makeKeys()
 						[](PerfectMatchMatcher::RobustKernel v) { return toString(v); }, kernelFrom),
 		config::number<P>("sigma", "m", closed(1e-4, 10), Level::Basic,
 						  "Sigma of the likelihood field p = sigma^2/(sigma^2+d^2): the range noise of the lidar "
-						  "plus the map's blur (a SICK LMS: 0.055).",
+						  "plus the map's blur (a SICK LMS: 0.055) (D2).",
 						  [](auto& o) -> auto& { return o.sigma; }),
 		config::count<P>("maxIterations", "", closed(1, 10000), Level::Expert, "Optimiser iterations at most per scan.",
 						 [](auto& o) -> auto& { return o.maxIterations; }),

@@ -10,7 +10,7 @@ bool KeyframeGate::moved(const mrpt::math::TPose2D& predicted) const
 {
 	const double lin = std::hypot(predicted.x - m_lastInsertPose.x, predicted.y - m_lastInsertPose.y);
 	const double ang = std::abs(mrpt::math::wrapToPi(predicted.phi - m_lastInsertPose.phi));
-	return lin >= m_options.insertionLinDistance || ang >= m_options.insertionAngDistance;
+	return lin >= m_options.matchLinDistance || ang >= m_options.matchAngDistance;
 }
 
 bool KeyframeGate::admits(const mrpt::math::TPose2D& pose, double inlierFraction)

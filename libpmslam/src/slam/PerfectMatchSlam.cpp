@@ -37,8 +37,8 @@ MotionModelOptions motionOptions(const MapBuilderOptions& o)
 KeyframeGateOptions gateOptions(const MapBuilderOptions& o)
 {
 	KeyframeGateOptions g;
-	g.insertionLinDistance = o.insertionLinDistance;
-	g.insertionAngDistance = o.insertionAngDistance;
+	g.matchLinDistance = o.matchLinDistance;
+	g.matchAngDistance = o.matchAngDistance;
 	g.mapInsertLinDistance = o.mapInsertLinDistance;
 	g.mapInsertAngDistance = o.mapInsertAngDistance;
 	g.mapInsertBelowInliers = o.mapInsertBelowInliers;

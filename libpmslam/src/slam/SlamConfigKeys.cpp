@@ -31,22 +31,22 @@ std::vector<config::Key<S>> logKeys()
 	return {
 		config::number<S>("noReturnRange", "m", config::above(0), Level::Basic,
 						  "Carmen logs: readings at or beyond this are \"no return\" (intel and fr079 write ~81.9 m, "
-						  "aces saturates at 50).",
+						  "aces saturates at 50) (D11).",
 						  [](auto& c) -> auto& { return c.log.noReturnRange; }),
 		config::word<S>(
 			"odometrySource", {"auto", "scan", "events"}, Level::Basic,
 			"Odometry predicting each scan: auto (the scan's own if it has one, else the latest reading), scan "
-			"(only the scan's own), events (only odometry readings and rawlog actions).",
+			"(only the scan's own), events (only odometry readings and rawlog actions) (D40).",
 			[](auto& c) -> auto& { return c.odometrySource; }, toText, odometrySourceFrom),
 		config::number<S>("sliceMinHeight", "m", config::Range{}, Level::Basic,
-						  "3D lidars and depth cameras: points above this height (robot frame) form the 2D scan...",
+						  "3D lidars and depth cameras: points above this height (robot frame) form the 2D scan.. (D41).",
 						  [](auto& c) -> auto& { return c.log.slice.minHeight; }),
-		config::number<S>("sliceMaxHeight", "m", config::Range{}, Level::Basic, "...up to this height.",
+		config::number<S>("sliceMaxHeight", "m", config::Range{}, Level::Basic, "...up to this height (D41).",
 						  [](auto& c) -> auto& { return c.log.slice.maxHeight; }),
-		config::degrees<S>("sliceResolution_deg", closed(0.05, 10), Level::Basic, "Angular step of the slice's beams.",
+		config::degrees<S>("sliceResolution_deg", closed(0.05, 10), Level::Basic, "Angular step of the slice's beams (D41).",
 						   [](auto& c) -> auto& { return c.log.slice.resolution; }),
 		config::number<S>("sliceMaxRange", "m", {0, 1000, true, false}, Level::Basic,
-						  "Points of the slice farther than this are left out.",
+						  "Points of the slice farther than this are left out (D41).",
 						  [](auto& c) -> auto& { return c.log.slice.maxRange; }),
 	};
 }

@@ -1,8 +1,8 @@
 /* pmslam — the keyframe gate: which scans are matched, which go into the map.
  *
  * Two pairs of thresholds gate the front-end's work:
- * - a scan is matched once odometry says the robot moved insertionLinDistance or
- *   turned insertionAngDistance since the gate's origin (the last keyframe, or the
+ * - a scan is matched once odometry says the robot moved matchLinDistance or
+ *   turned matchAngDistance since the gate's origin (the last keyframe, or the
  *   last matched scan the map already explained); below that it keeps the odometry
  *   pose, and matching jitter does not accumulate while the robot stands still;
  * - a matched scan becomes a keyframe (inserted into the grid, handed to the loop
@@ -24,7 +24,7 @@ namespace pmslam
  * PerfectMatchSlam fills them. */
 struct KeyframeGateOptions
 {
-	double insertionLinDistance = 0, insertionAngDistance = 0;	///< m, rad
+	double matchLinDistance = 0, matchAngDistance = 0;	///< m, rad
 	double mapInsertLinDistance = 0, mapInsertAngDistance = 0;	///< m, rad (0 and 0: every matched scan)
 	double mapInsertBelowInliers = 0;
 };

@@ -73,94 +73,37 @@ namespace pmslam
 /** Builder options; INI section [MappingApplication] (grid keys in the same section). */
 struct MapBuilderOptions : public mrpt::config::CLoadableOptions
 {
-	double insertionLinDistance = 0.01;	 ///< match + insert once the robot moved this far (m)...
-	/** ...or turned this much (rad) since the last insertion. The paper used 0.5 rad; turning
-	 * in place then leaves up to 28° to odometry alone, and a laser 20 m from a wall sees a 5°
-	 * odometry error as 1.7 m, beyond the distance map's reach. 2° keeps every match local. */
-	double insertionAngDistance = 2.0 * M_PI / 180.0;
-	/** A match whose goodness (mean PM likelihood, [0,1]) is below this is rejected: the scan
-	 * keeps the odometry prediction and is not inserted (0 accepts every match). A good match scores 0.8–0.98. */
-	double minGoodness = 0.3;
-	/** Map insertion decoupled from matching: a matched scan is inserted into the grid only
-	 * once the robot moved mapInsertLinDistance (m) or turned mapInsertAngDistance (rad) since
-	 * the last insertion, or when fewer than mapInsertBelowInliers of its points lie within the
-	 * distance map's reach (new ground). 0 and 0 = insert every matched scan. Redrawing the map
-	 * at every slightly drifted pose blurs it and lets the newest evidence overwrite the oldest,
-	 * so a revisited place no longer pulls the robot back (intel: 0.031 -> 0.017 m). */
-	double mapInsertLinDistance = 0.3;
-	double mapInsertAngDistance = mrpt::DEG2RAD(6.0);
-	double mapInsertBelowInliers = 0.95;
-	/** Odometry at the scan's time, for the reported trajectory's smoother: when a scan comes
-	 * without odometry of its own, or with a copy of the latest odometry reading (Carmen loggers
-	 * that stamp FLASER lines with the last ODOM message: aces, intel), the odometry given to the
-	 * smoother is extrapolated from the last two timed readings to the scan's timestamp minus
-	 * scanLatency. A reading ~0.15 s old at 0.4 m/s is 6 cm stale along the track. The
-	 * prediction of the match keeps the reading as it is (moving it too made loop closure on
-	 * aces less reliable, for no gain). Off: the latest reading as it is. Causal: no future
-	 * reading used.
-	 * Not done for a bursty stream (more than 5 % of readings under 10 ms apart, as in intel):
-	 * its timestamps are delivery times and say nothing about when the robot was where. */
-	bool odometryToScanTime = true;
-	/** The scan was taken this long (s) before its timestamp (serial transfer of a SICK LMS at
-	 * 38.4 kbaud takes ~0.1 s). Only with odometryToScanTime. */
-	double scanLatency = 0.08;
-	/** Reported trajectory: fuse each scan's pose with the odometry increments (OdometrySmoother;
-	 * noise levels learned online), final odometrySmoothingLag scans later. The map and the
-	 * predictions keep the matched poses, so odometry drift never enters the map.
-	 * Read the poses with takeSmoothedPoses(). */
+	// Each key's one-line doc is in MapBuilderKeys.cpp (and docs/configuration.md); why each
+	// default is what it is, with the evidence, is the decision named (docs/decisions.md).
+	double matchLinDistance = 0.01;	 ///< m moved before a scan is matched (D6)
+	double matchAngDistance = 2.0 * M_PI / 180.0;  ///< rad turned before a scan is matched (D6)
+	double minGoodness = 0.3;  ///< matches scoring below are rejected (D7)
+	double mapInsertLinDistance = 0.3;	///< m moved before a matched scan goes into the map (D8)
+	double mapInsertAngDistance = mrpt::DEG2RAD(6.0);  ///< rad, likewise (D8)
+	double mapInsertBelowInliers = 0.95;  ///< new ground: inserted below this share of inliers (D8)
+	bool odometryToScanTime = true;	 ///< the smoother gets odometry at the scan's time (D20)
+	double scanLatency = 0.08;	///< s between a scan being taken and its stamp (D20)
+	/** Reported trajectory fused with the odometry increments, final odometrySmoothingLag scans
+	 * later; the map and the predictions keep the matched poses (D21). Read with takeSmoothedPoses(). */
 	bool odometrySmoothing = true;
 	unsigned odometrySmoothingLag = 3;
-	/** A match that is mostly new ground is still accepted when the part that overlaps the map
-	 * agrees: at least minPoints inliers whose mean likelihood (inlierGoodness) is at least this
-	 * (a random pose scores ~0.2; 0 = off, only minGoodness). Without it a turn into an unmapped
-	 * corridor is rejected, not inserted, and the map never grows there again. */
-	double minOverlapGoodness = 0.6;
-	/** Degenerate directions: where the match's information on the position (heading fitted too;
-	 * each point pulling only across its surface, SurfaceNormals.h) is below degenerateBelow times
-	 * its largest eigenvalue, the scan does not fix the position along that direction (a plain
-	 * corridor, along it) and the prediction is kept there; across it and in heading the match
-	 * decides (0 = off). Up to 5 x degenerateBelow the match gets a share growing linearly from none
-	 * to all. Only with odometry: without it the prediction is where the robot was. */
-	double degenerateBelow = 0.02;
-	/** Wide basin: when the match from the prediction scores below wideSearchBelowGoodness (0 = never),
-	 * a correlative search within ±wideSearchLinear (m) and ±wideSearchAngular (rad) of the prediction
-	 * proposes other starting poses, each refined by PM; the best wins. Clean matches score 0.8–0.98,
-	 * so the search runs only where the prediction was off (a fast spin, a wheel slip). */
-	double wideSearchBelowGoodness = 0.7;
-	double wideSearchLinear = 0.5;
-	double wideSearchAngular = mrpt::DEG2RAD(30.0);
-	/** Re-localisation windows, up to ±relocalizeMaxLinear (m) and ±180°. While matches are rejected
-	 * (the odometry itself may be wrong: a robot carried, wheels slipping) the window grows with the
-	 * time since the last accepted match, by relocalizeSpeed (m/s) and relocalizeTurnRate (rad/s).
-	 * After a step between two scans longer than relocalizeAfterGap (s) or relocalizeAfterJump (m)
-	 * (scans missing, nothing logged) it grows by relocalizeOdometryError times the odometry's
-	 * distance and turn over that step. A match still rejected then (the odometry itself was wrong
-	 * over the step: fr079's once counted a reversal as forward driving, 4.8 m off after 20 s) is
-	 * searched in the window of the time lost, which reaches relocalizeMaxLinear. */
-	double relocalizeAfterGap = 2.0;
-	double relocalizeAfterJump = 1.0;
-	double relocalizeSpeed = 0.5;
-	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);
-	double relocalizeOdometryError = 0.1;
-	double relocalizeMaxLinear = 8.0;
-	/** In a re-localisation window, a pose more than 0.5 m or 5 deg from the best that scores within
-	 * this of it leaves the re-localisation undecided (a look-alike place): the search goes on at the
-	 * next scans. 0: off. */
-	double relocalizeAmbiguity = 0.05;
-	/** New ground while lost: once no match was accepted for newGroundAfter (s) and at least
-	 * newGroundUnexplored of a scan's points lie in cells no scan has observed (at the prediction),
-	 * the robot is somewhere never mapped (after a logging gap, say): the scan is inserted at the
-	 * odometry pose so that the map grows again and later scans match it (0 = never). */
-	double newGroundUnexplored = 0.8;
-	double newGroundAfter = 2.0;
-	/** Match a scan that odometry says was taken standing still when more than this fraction of its
-	 * ranges changed by over 0.1 m since the scan last matched or inserted (0 = never): the scans say
-	 * the robot moves (carried, pushed, or a logger repeating a stale odometry reading). */
-	double matchWhenScanChanged = 0.3;
-	/** Scans with fewer usable returns than this are not matched. */
-	unsigned minPoints = 20;
-	/** Keep every inserted scan and pose as a CSimpleMap (for saving / rebuilding). */
-	bool keepSimpleMap = true;
+	double minOverlapGoodness = 0.6;  ///< mostly-new-ground matches accepted when the overlap agrees (D13)
+	double degenerateBelow = 0.02;	///< directions the scan leaves open keep the prediction (D19)
+	double wideSearchBelowGoodness = 0.7;  ///< the wide basin's trigger (D12)
+	double wideSearchLinear = 0.5;	///< m, its half-width (D12)
+	double wideSearchAngular = mrpt::DEG2RAD(30.0);	 ///< rad (D12)
+	double relocalizeAfterGap = 2.0;  ///< s: a longer step between scans is a gap (D15)
+	double relocalizeAfterJump = 1.0;  ///< m: a longer odometry step is one too (D15)
+	double relocalizeSpeed = 0.5;  ///< m/s: growth of the window while matches are rejected (D16)
+	double relocalizeTurnRate = mrpt::DEG2RAD(30.0);  ///< rad/s, likewise (D16)
+	double relocalizeOdometryError = 0.1;  ///< share of the odometry over a gap (D15)
+	double relocalizeMaxLinear = 8.0;  ///< m: the widest window (D16)
+	double relocalizeAmbiguity = 0.05;	///< a re-localisation must win by this (D17)
+	double newGroundUnexplored = 0.8;  ///< lost on new ground: insert at the odometry pose (D14)
+	double newGroundAfter = 2.0;  ///< s lost before that (D14)
+	double matchWhenScanChanged = 0.3;	///< scans that move while odometry stands still (D18)
+	unsigned minPoints = 20;  ///< scans with fewer usable returns are not matched
+	bool keepSimpleMap = true;	///< keep every inserted scan and pose as a CSimpleMap
 	OccupancyGridUpdateOptions grid;
 
 	/** Every INI key of this struct, the grid's included (ConfigKeys.h; MapBuilderKeys.cpp). */
