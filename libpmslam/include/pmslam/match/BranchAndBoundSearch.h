@@ -24,6 +24,12 @@
  * pass computes identically. Two candidates are therefore further apart than the thresholds, and
  * a second candidate scoring close to the first means the scan fits two places.
  *
+ * Cost: every rotation's root nodes are scored (rotations × (side / 2^top)² bounds), then the
+ * nodes whose bound reaches the best score so far. In a building, a coarse node's window holds a
+ * wall for nearly every point, so bounds only fall below a good match's score a few levels above
+ * the cells: the node count, not the leaves or the candidate checks, dominates, and it grows
+ * faster than the map's area (bench/bench_global_search.cpp).
+ *
  * Units and frames: metres and radians; points in the robot frame; poses of the robot in the
  * caller's map frame (the pyramid's frame plus its frameOffset()).
  */
@@ -92,7 +98,7 @@ class BranchAndBoundSearch
 		std::size_t nodes = 0;	///< bounds evaluated in the main search (roots included)
 		std::size_t leaves = 0;	 ///< poses scored in the main search
 		std::size_t climbs = 0, climbNodes = 0;	 ///< neighbourhood searches and the bounds they evaluated
-		double seconds = 0;	 ///< wall time of search() (lattice set-up included)
+		double seconds = 0;	 ///< wall time of search() (rotating the points included)
 	};
 	struct Result
 	{
