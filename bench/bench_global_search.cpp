@@ -1,0 +1,217 @@
+// Global localisation by branch and bound (BranchAndBoundSearch over a LikelihoodPyramid) against
+// the map's area.
+//
+// Worlds: synthetic buildings of S × S m (S = 20, 50, 100) at 0.05 m: east-west corridors 2 m wide
+// every 12 m, each lined on both sides by 5 m deep rooms 3-6 m wide with a 0.9 m door onto it, and
+// 0-3 pieces of furniture (0.3-1.2 m boxes) per room; fixed seed. The distance layer is a
+// DynamicDistanceMap (truncation 0.5 m) with the walls rasterised; the pyramid covers its whole
+// allocated extent (the building plus up to a block of margin).
+//
+// Queries: 5 fixed random poses in corridors or rooms (≥ 0.4 m from walls, seeing beyond 3 m),
+// any heading. Scans are
+// exact ray casts: 181 beams over 180° ("fan181") or 360 over 360° ("ring360"), 30 m max range.
+//
+//  BM_PyramidBuild/S        builds the pyramid (9 levels, σ 0.1 m); counters: pyramid_MB,
+//                           distance_map_MB, cells (level 0).
+//  BM_GlobalSearch/S/beams  one whole-map search (K = 1, every heading, the step from the farthest
+//                           point) per query; time per search; counters: ok (fraction within
+//                           0.1 m and 1° of the truth); means per search of score, angles, roots,
+//                           nodes, leaves, climbs, Mposes (lattice size, millions).
+//  BM_GlobalSearchMinScore  the same with minScore 0.5: a threshold from the start.
+//  (The 50 m and 100 m searches take seconds each: run with --benchmark_filter to pick.)
+//  BM_BruteForce/20         the reference: every lattice pose of the 20 m map scored (row by row,
+//                           vectorisable) for 16 rotations; counter full_s extrapolates to all
+//                           rotations, the time a brute-force whole-map search would take.
+#include <benchmark/benchmark.h>
+#include <pmslam/match/BranchAndBoundSearch.h>
+#include <pmslam/match/LikelihoodPyramid.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <random>
+
+#include "../tests/match/BranchAndBoundSupport.h"
+
+namespace
+{
+using namespace pmslam;
+using namespace pmslam::testing;
+using mrpt::math::TPose2D;
+
+SyntheticWorld building(double side, unsigned seed)
+{
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(0, 1);
+	SyntheticWorld w;
+	w.addBox(0, 0, side, side);
+	auto wallWithDoors = [&](double y, const std::vector<double>& doors) {
+		double x = 0;
+		for (double d : doors)
+		{
+			w.segments.push_back({x, y, d, y});
+			x = d + 0.9;
+		}
+		w.segments.push_back({x, y, side, y});
+	};
+	for (double y0 = 5; y0 + 2 <= side - 5 + 1e-9; y0 += 12)
+	{
+		// Corridor [y0, y0+2]; rooms [y0-5, y0] below and [y0+2, y0+7] above, split at random.
+		for (int row = 0; row < 2; ++row)
+		{
+			const double wallY = row ? y0 + 2 : y0, farY = row ? y0 + 7 : y0 - 5;
+			std::vector<double> doors;
+			double x = 0;
+			while (x < side - 3)
+			{
+				const double width = std::min(side - x, 3 + 3 * u(rng));
+				doors.push_back(x + 0.3 + (width - 1.5) * u(rng));
+				if (x + width < side - 1e-9) w.segments.push_back({x + width, wallY, x + width, farY});
+				for (int f = int(4 * u(rng)); f > 0; --f)
+				{
+					const double fx = x + 0.3 + (width - 1.6) * u(rng), fy = std::min(wallY, farY) + 0.8 + 3 * u(rng);
+					w.addBox(fx, fy, fx + 0.3 + 0.9 * u(rng), fy + 0.3 + 0.9 * u(rng));
+				}
+				x += width;
+			}
+			wallWithDoors(wallY, doors);
+		}
+	}
+	return w;
+}
+
+struct Setup
+{
+	SyntheticWorld world;
+	std::unique_ptr<DynamicDistanceMap> map;
+	std::unique_ptr<LikelihoodPyramid> pyramid;
+	std::vector<TPose2D> queries;
+};
+
+Setup& setup(int side)
+{
+	static std::map<int, Setup> cache;
+	auto it = cache.find(side);
+	if (it != cache.end()) return it->second;
+	Setup& s = cache[side];
+	s.world = building(side, 7);
+	s.map = std::make_unique<DynamicDistanceMap>(0.05, 0.5);
+	rasterise(s.world, *s.map);
+	s.pyramid = std::make_unique<LikelihoodPyramid>(*s.map);
+	std::mt19937 rng(3);
+	// A pose inside a closed piece of furniture is "free" too: keep poses that see beyond 3 m.
+	while (s.queries.size() < 5)
+	{
+		const TPose2D p = randomFreePose(rng, s.world, side, side);
+		double far = 0;
+		for (const auto& q : castScan(s.world, p, 360, 2 * M_PI)) far = std::max(far, double(std::hypot(q.x, q.y)));
+		if (far > 3) s.queries.push_back(p);
+	}
+	return s;
+}
+
+std::vector<mrpt::math::TPoint2Df> scanOf(const Setup& s, const TPose2D& p, int beams)
+{
+	return beams == 181 ? castScan(s.world, p, 181, M_PI) : castScan(s.world, p, 360, 2 * M_PI);
+}
+
+void BM_PyramidBuild(benchmark::State& state)
+{
+	Setup& s = setup(int(state.range(0)));
+	for (auto _ : state)
+	{
+		LikelihoodPyramid p(*s.map);
+		benchmark::DoNotOptimize(p.level(0).cells.data());
+	}
+	state.counters["pyramid_MB"] = s.pyramid->memoryBytes() / 1e6;
+	state.counters["distance_map_MB"] = s.map->memoryBytes() / 1e6;
+	state.counters["cells"] = double(s.pyramid->window().width()) * s.pyramid->window().height();
+}
+
+void runSearches(benchmark::State& state, double minScore)
+{
+	Setup& s = setup(int(state.range(0)));
+	const int beams = int(state.range(1));
+	BranchAndBoundSearch::Options o;
+	o.minScore = minScore;
+	const BranchAndBoundSearch bnb(*s.pyramid, o);
+	std::vector<std::vector<mrpt::math::TPoint2Df>> scans;
+	for (const auto& q : s.queries) scans.push_back(scanOf(s, q, beams));
+	double ok = 0, score = 0, searches = 0, mposes = 0;
+	BranchAndBoundSearch::Stats total;
+	for (auto _ : state)
+	{
+		double iteration = 0;
+		for (std::size_t q = 0; q < scans.size(); ++q)
+		{
+			const auto r = bnb.searchGlobal(scans[q]);
+			iteration += r.stats.seconds;
+			searches += 1;
+			total.angles += r.stats.angles;
+			total.translations = r.stats.translations;
+			mposes += double(r.stats.angles) * r.stats.translations / 1e6;
+			total.roots += r.stats.roots;
+			total.nodes += r.stats.nodes;
+			total.leaves += r.stats.leaves;
+			total.climbs += r.stats.climbs;
+			total.seconds += r.stats.seconds;
+			if (r.candidates.empty()) continue;
+			const auto& p = r.candidates[0].pose;
+			const auto& t = s.queries[q];
+			ok += std::hypot(p.x - t.x, p.y - t.y) < 0.1 && std::abs(angleDiff(p.phi, t.phi)) < M_PI / 180;
+			score += r.candidates[0].score;
+		}
+		state.SetIterationTime(iteration);
+	}
+	state.counters["ms_per_search"] = 1e3 * total.seconds / searches;
+	state.counters["ok"] = ok / searches;
+	state.counters["score"] = score / searches;
+	state.counters["angles"] = total.angles / searches;
+	state.counters["Mposes"] = mposes / searches;
+	state.counters["roots"] = total.roots / searches;
+	state.counters["nodes"] = total.nodes / searches;
+	state.counters["leaves"] = total.leaves / searches;
+	state.counters["climbs"] = total.climbs / searches;
+}
+
+void BM_GlobalSearch(benchmark::State& state) { runSearches(state, 0.0); }
+void BM_GlobalSearchMinScore(benchmark::State& state) { runSearches(state, 0.5); }
+
+void BM_BruteForce(benchmark::State& state)
+{
+	Setup& s = setup(int(state.range(0)));
+	const BranchAndBoundSearch bnb(*s.pyramid);
+	const auto lat = bnb.globalLattice(scanOf(s, s.queries[0], 181));
+	const int slices = 16;
+	double seconds = 0;
+	for (auto _ : state)
+	{
+		const auto t0 = std::chrono::steady_clock::now();
+		const auto scores = bruteForceScores(bnb, lat, 0, slices);
+		benchmark::DoNotOptimize(scores.data());
+		seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	}
+	state.counters["slice_ms"] = 1e3 * seconds / slices;
+	state.counters["full_s"] = seconds / slices * double(lat.angles.size());
+	state.counters["angles"] = double(lat.angles.size());
+}
+
+}  // namespace
+
+BENCHMARK(BM_PyramidBuild)->Arg(20)->Arg(50)->Arg(100)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_GlobalSearch)
+	->Args({20, 181})
+	->Args({50, 181})
+	->Args({100, 181})
+	->Args({20, 360})
+	->Unit(benchmark::kMillisecond)
+	->UseManualTime()
+	->Iterations(1);
+BENCHMARK(BM_GlobalSearchMinScore)
+	->Args({20, 181})
+	->Args({50, 181})
+	->Unit(benchmark::kMillisecond)
+	->UseManualTime()
+	->Iterations(1);
+BENCHMARK(BM_BruteForce)->Arg(20)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_MAIN();
