@@ -36,10 +36,11 @@ options (before or after LOG; an option's value may also follow it after '=': --
   --out DIR               output folder (default ./pmslam-out); files of an earlier run that this run does
                           not write are removed (only pm-slam-app's own output names, said on stderr)
   --max-scans N           stop after N scans (0 = all)
-  --localize MAP          track the robot on a fixed prior map (a .gridmap[.gz] written by pm-slam-app
-                          or any serialised MRPT COccupancyGridMap2D) without changing it; writes
-                          trajectory.txt, timing.txt and map.png (the fixed map with the path)
-  --initial-pose X,Y,YAW_DEG  start pose on the --localize map (m, m, degrees; default 0,0,0)
+  --localize MAP          track the robot on a fixed prior map without changing it: a ROS map.yaml, an MRPT
+                          .gridmap[.gz] or .simplemap[.gz], or a pm-slam-app output folder; writes
+                          trajectory.txt, timing.txt and map.png (the fixed map with the path). Without
+                          --initial-pose the start is searched over the whole map from the first scans
+  --initial-pose X,Y,YAW_DEG  start pose on the --localize map (m, m, degrees), if known
   --gui                   live view of map, scan and trajectory (needs a display); at the end the final map
                           stays shown until the window is closed or a key is pressed in it
   --progress / --no-progress  force the progress line on or off (default: on when stderr is a terminal)
@@ -194,6 +195,7 @@ Options parseOptions(int argc, char** argv)
 		positional.push_back(s);
 	}
 	checkCombination(a, positional, initialPoseGiven);
+	a.initialPoseGiven = initialPoseGiven;
 	return a;
 }
 

@@ -17,6 +17,7 @@ struct Options
 	std::size_t maxScans = 0;
 	std::string localize;  // fixed map to localise on (empty: SLAM)
 	mrpt::math::TPose2D initialPose{0, 0, 0};
+	bool initialPoseGiven = false;	// else --localize searches the whole map for the start
 	bool gui = false, quiet = false;
 	bool logGiven = false, outGiven = false;
 	double maxUntracked = 10.0;	 // s

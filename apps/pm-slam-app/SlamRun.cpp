@@ -3,7 +3,7 @@
 
 namespace pmslam_app
 {
-SlamRun::SlamRun(const pmslam::SlamConfig& cfg) : m_odometry(cfg.odometrySource)
+SlamRun::SlamRun(const pmslam::SlamConfig& cfg) : m_odometry(cfg.odometrySource), m_startOdometry(cfg.odometrySource)
 {
 	m_slam.PM_options = cfg.mapping;
 	m_slam.PM_params = cfg.matcher;
@@ -14,6 +14,24 @@ SlamRun::SlamRun(const pmslam::SlamConfig& cfg) : m_odometry(cfg.odometrySource)
 void SlamRun::localize(const mrpt::maps::COccupancyGridMap2D& map, const mrpt::math::TPose2D& initialPose)
 {
 	m_slam.initializeWithFixedMap(map, initialPose);
+}
+
+void SlamRun::findStart(const mrpt::maps::COccupancyGridMap2D& map)
+{
+	m_start = std::make_unique<pmslam::GlobalLocalizer>(map, m_slam.PM_params, m_slam.PM_options.grid.scan);
+	m_startMap = &map;
+}
+
+bool SlamRun::offerForStart(const pmslam::LogEvent& ev)
+{
+	if (ev.kind == pmslam::LogEvent::Kind::Odometry)
+	{
+		m_startOdometry.takeReading(ev);
+		return false;
+	}
+	if (m_start->addScan(*ev.scan, m_startOdometry.forScan(ev)) != pmslam::GlobalLocalizer::State::Found) return false;
+	localize(*m_startMap, m_start->best()->first);
+	return true;
 }
 
 const pmslam::PerfectMatchSlam::ScanResult* SlamRun::process(const pmslam::LogEvent& ev)

@@ -5,10 +5,12 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <pmslam/io/LogReader.h>
 #include <pmslam/io/Trajectory.h>
+#include <pmslam/slam/GlobalLocalizer.h>
 #include <pmslam/slam/OdometrySelector.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
 #include <pmslam/slam/SlamConfig.h>
 
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -22,6 +24,16 @@ class SlamRun
 	explicit SlamRun(const pmslam::SlamConfig& config);
 	/** --localize: tracks on the fixed `map` from `initialPose`. Throws std::invalid_argument. */
 	void localize(const mrpt::maps::COccupancyGridMap2D& map, const mrpt::math::TPose2D& initialPose);
+	/** --localize without --initial-pose: the start is searched on `map` (GlobalLocalizer) from the
+	 * first scans, which offerForStart() takes until it is found. */
+	void findStart(const mrpt::maps::COccupancyGridMap2D& map);
+	bool findingStart() const { return m_start && m_start->state() == pmslam::GlobalLocalizer::State::Searching; }
+	/** One event while findingStart(): true when it decided the start, and the tracker now starts
+	 * there (the events offered so far are to be processed again, from the first). */
+	bool offerForStart(const pmslam::LogEvent& event);
+	bool startUndecided() const { return m_start && m_start->state() == pmslam::GlobalLocalizer::State::Undecided; }
+	/** The search for the start, if there was one (its state says how it ended). */
+	const pmslam::GlobalLocalizer* startSearch() const { return m_start.get(); }
 
 	/** One event of the log: odometry goes to the SLAM (when [Log] odometrySource uses it); a scan is
 	 * processed and its pose appended to trajectory(). Returns the scan's result, null for odometry. */
@@ -46,6 +58,9 @@ class SlamRun
 	pmslam::PerfectMatchSlam m_slam;
 	pmslam::OdometrySelector m_odometry;
 	pmslam::Trajectory m_traj;
+	std::unique_ptr<pmslam::GlobalLocalizer> m_start;
+	const mrpt::maps::COccupancyGridMap2D* m_startMap = nullptr;
+	pmslam::OdometrySelector m_startOdometry;  // its own: the events are offered again to m_odometry after
 };
 
 }  // namespace pmslam_app

@@ -8,6 +8,7 @@
  * scan by scan (Observers), the outputs (Outputs, OutputFolder), and the summary and exit status (Summary).
  */
 #include <pmslam/io/MapExport.h>
+#include <pmslam/io/PriorMap.h>
 #include <pmslam/slam/SlamConfig.h>
 #include <unistd.h>
 
@@ -84,7 +85,7 @@ bool openInputAndOutput(const Options& o, const pmslam::SlamConfig& cfg, Input& 
 	}
 	try
 	{
-		if (o.localizing()) pmslam::loadGridMapGz(o.localize, priorMap);
+		if (o.localizing()) priorMap = pmslam::loadPriorMap(o.localize, cfg.mapping.grid.resolution).grid;
 	}
 	catch (const std::exception& e)
 	{
@@ -101,6 +102,37 @@ bool openInputAndOutput(const Options& o, const pmslam::SlamConfig& cfg, Input& 
 		return false;
 	}
 	return true;
+}
+
+/** How the search for the start ended; false when it found none (then nothing was tracked). */
+bool sayStart(const pmslam::GlobalLocalizer& g)
+{
+	char line[400];
+	const auto best = g.best();
+	if (g.state() == pmslam::GlobalLocalizer::State::Found)
+	{
+		std::snprintf(line, sizeof line,
+					  "global localisation: start found at %.3f %.3f %.1f deg after %zu scans (its matches %.2f, the "
+					  "best rival's %.2f; %zu whole-map searches, %.2f s)",
+					  best->first.x, best->first.y, mrpt::RAD2DEG(best->first.phi), g.scansUsed(), best->mean(),
+					  g.runnerUp(), g.searches(), g.searchSeconds());
+		say(line);
+		return true;
+	}
+	if (best)
+		std::snprintf(line, sizeof line,
+					  "global localisation: UNDECIDED after %zu scans: %zu places explain the scans alike (best at "
+					  "%.2f %.2f %.0f deg: %.2f, the next %.2f); nothing tracked: give --initial-pose, or start "
+					  "where the map is distinctive (exit status 3)",
+					  g.scansUsed(), g.hypotheses(), best->pose.x, best->pose.y, mrpt::RAD2DEG(best->pose.phi),
+					  best->mean(), g.runnerUp());
+	else
+		std::snprintf(line, sizeof line,
+					  "global localisation: NOT FOUND after %zu scans: no place on the map explains the scans "
+					  "(%zu whole-map searches); nothing tracked: is it the right map? (exit status 3)",
+					  g.scansUsed(), g.searches());
+	say(line);
+	return false;
 }
 
 void sayNoScans(const Options& o, const pmslam::LogReadStats& st)
@@ -166,7 +198,8 @@ int main(int argc, char** argv)
 	SlamRun run(cfg);
 	try
 	{
-		if (options.localizing()) run.localize(priorMap, options.initialPose);
+		if (options.localizing() && options.initialPoseGiven) run.localize(priorMap, options.initialPose);
+		if (options.localizing() && !options.initialPoseGiven) run.findStart(priorMap);
 	}
 	catch (const std::exception& e)
 	{
@@ -199,6 +232,12 @@ int main(int argc, char** argv)
 	const auto secondsSince = [](auto t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); };
 	const double finishS = secondsSince(finishStart), wallS = secondsSince(wallStart);
 
+	if (const auto* start = run.startSearch())
+		if (!sayStart(*start))
+		{
+			folder.abandon();
+			return 3;
+		}
 	if (run.trajectory().empty() && !stopRequested() && !end.failed)
 	{
 		sayNoScans(options, input.reader().stats());

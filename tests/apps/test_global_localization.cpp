@@ -1,0 +1,164 @@
+// Localisation without a start pose: GlobalLocalizer (a whole-map branch-and-bound search, then the
+// scans decide between the places that fit) and `pm-slam-app --localize MAP` without --initial-pose,
+// on the maps users have (a pm-slam-app folder, map.yaml, a simple map).
+#include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
+#include <pmslam/io/LogReader.h>
+#include <pmslam/io/PriorMap.h>
+#include <pmslam/io/Trajectory.h>
+#include <pmslam/slam/GlobalLocalizer.h>
+#include <pmslam/slam/OdometrySelector.h>
+#include <pmslam/slam/SlamConfig.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "RunProgram.h"
+#include "SyntheticLogs.h"
+
+namespace fs = std::filesystem;
+using pmslam::testing::quote;
+using pmslam::testing::run;
+
+namespace
+{
+const std::string kApp = PMSLAM_BINARY_DIR "/bin/pm-slam-app";
+const std::string kSample = "/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+
+/** The SLAM run of MRPT's sample log, made once for all tests here: its output folder. */
+const std::string& sampleMapFolder()
+{
+	static const std::string folder = [] {
+		const std::string out = (fs::temp_directory_path() / ("pmslam-global-" + std::to_string(::getpid()))).string();
+		const auto r = run(quote(kApp) + " --quiet --out " + quote(out) + " " + quote(kSample));
+		EXPECT_EQ(r.exitCode, 0) << r.output;
+		return out;
+	}();
+	return folder;
+}
+
+struct Scan
+{
+	pmslam::LogEvent event;
+	std::optional<mrpt::math::TPose2D> odometry;
+};
+
+std::vector<Scan> sampleScans()
+{
+	auto reader = pmslam::LogReader::open(kSample);
+	pmslam::OdometrySelector odo;
+	std::vector<Scan> scans;
+	for (pmslam::LogEvent ev; reader->next(ev);)
+		if (ev.kind == pmslam::LogEvent::Kind::Odometry)
+			odo.takeReading(ev);
+		else
+			scans.push_back({ev, odo.forScan(ev)});
+	return scans;
+}
+
+class GlobalLocalization : public ::testing::Test
+{
+   protected:
+	void SetUp() override
+	{
+		if (!fs::exists(kSample)) GTEST_SKIP() << kSample << " not installed (comes with mrpt-common)";
+	}
+	static void TearDownTestSuite() { fs::remove_all(sampleMapFolder()); }
+};
+}  // namespace
+
+// From starts spread over the whole log, the start is found where the SLAM run put that scan, from
+// a map file alone (the scans of a robot switched on anywhere in the mapped building).
+TEST_F(GlobalLocalization, FindsTheStartFromScansAnywhereOnTheLog)
+{
+	const auto map = pmslam::loadPriorMap(sampleMapFolder());
+	const auto slam = pmslam::loadTrajectory(sampleMapFolder() + "/trajectory.txt");
+	const auto scans = sampleScans();
+	ASSERT_EQ(scans.size(), slam.size());
+	const pmslam::SlamConfig cfg = pmslam::parseSlamConfig("", "defaults");
+#ifdef PMSLAM_SANITIZE
+	const std::size_t starts = 4;  // each start is a whole-map search: slow under the sanitizers
+#else
+	const std::size_t starts = 12;
+#endif
+	std::size_t found = 0;
+	for (std::size_t k = 0; k < starts; ++k)
+	{
+		const std::size_t s0 = (scans.size() - 150) * k / starts;
+		pmslam::GlobalLocalizer g(map.grid, cfg.matcher, cfg.mapping.grid.scan);
+		for (std::size_t s = s0; s < scans.size() && g.state() == pmslam::GlobalLocalizer::State::Searching; ++s)
+			g.addScan(*scans[s].event.scan, scans[s].odometry);
+		ASSERT_EQ(g.state(), pmslam::GlobalLocalizer::State::Found) << "start scan " << s0;
+		const auto p = g.best()->first;
+		const double d = std::hypot(p.x - slam[s0].x, p.y - slam[s0].y);
+		const double yaw = std::abs(mrpt::math::wrapToPi(p.phi - slam[s0].yaw));
+		EXPECT_LT(d, 0.3) << "start scan " << s0;
+		EXPECT_LT(yaw, 5 * M_PI / 180) << "start scan " << s0;
+		found += d < 0.3 && yaw < 5 * M_PI / 180;
+	}
+	EXPECT_EQ(found, starts);
+}
+
+// pm-slam-app --localize without --initial-pose, on the three forms of the same map: the trajectory is
+// the SLAM run's, and the run says where it found the start.
+TEST_F(GlobalLocalization, PmSlamAppLocalisesOnAFolderAYamlAndASimpleMapWithoutAStartPose)
+{
+	const auto slam = pmslam::loadTrajectory(sampleMapFolder() + "/trajectory.txt");
+	pmslam::testing::ScratchDir dir("global-app");
+	for (const std::string& map : std::vector<std::string>{sampleMapFolder(), sampleMapFolder() + "/map.yaml",
+								  sampleMapFolder() + "/map.simplemap.gz"})
+	{
+		const std::string out = dir.path("loc");
+		const auto r = run(quote(kApp) + " --localize " + quote(map) + " --out " + quote(out) + " " + quote(kSample));
+		ASSERT_EQ(r.exitCode, 0) << map << "\n" << r.output;
+		EXPECT_NE(r.output.find("global localisation: start found at"), std::string::npos) << r.output;
+		EXPECT_NE(r.output.find("tracking: ok"), std::string::npos) << r.output;
+		const auto loc = pmslam::loadTrajectory(out + "/trajectory.txt");
+		ASSERT_EQ(loc.size(), slam.size()) << map;
+		double sum = 0;
+		for (std::size_t i = 0; i < slam.size(); ++i) sum += std::hypot(slam[i].x - loc[i].x, slam[i].y - loc[i].y);
+		EXPECT_LT(sum / double(slam.size()), 0.1) << map;
+	}
+}
+
+// The scans are of another building: no place explains them, or none clearly. The run says so and
+// exits 3; it never tracks from a guess or reports "tracking: ok".
+TEST_F(GlobalLocalization, OnAMapOfAnotherBuildingItSaysSoAndTracksNothing)
+{
+	pmslam::testing::ScratchDir dir("global-wrong");
+	// A map of a room the sample log never saw.
+	const auto path = pmslam::testing::roomPath(120);
+	const std::string roomLog =
+		dir.write("room.clf", pmslam::testing::carmenLog(pmslam::testing::furnishedRoom(), path, path, {}));
+	auto r = run(quote(kApp) + " --quiet --out " + quote(dir.path("room")) + " " + quote(roomLog));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	r = run(quote(kApp) + " --localize " + quote(dir.path("room")) + " --out " + quote(dir.path("loc")) + " " +
+			quote(kSample));
+	EXPECT_EQ(r.exitCode, 3) << r.output;
+	EXPECT_TRUE(r.output.find("global localisation: UNDECIDED") != std::string::npos ||
+				r.output.find("global localisation: NOT FOUND") != std::string::npos)
+		<< r.output;
+	EXPECT_EQ(r.output.find("tracking: ok"), std::string::npos) << r.output;
+	EXPECT_FALSE(fs::exists(dir.path("loc") + "/trajectory.txt"));
+}
+
+// A map the program cannot read is one line naming it and what was expected.
+TEST(PriorMap, UnreadableMapsAreOneLineErrors)
+{
+	pmslam::testing::ScratchDir dir("prior-map");
+	for (const std::string& bad : {dir.path("none.yaml"), dir.dir.string(), dir.write("x.gridmap.gz", "garbage")})
+	{
+		try
+		{
+			pmslam::loadPriorMap(bad);
+			ADD_FAILURE() << bad << " loaded";
+		}
+		catch (const pmslam::PriorMapError& e)
+		{
+			const std::string what = e.what();
+			EXPECT_NE(what.find(bad), std::string::npos) << what;
+			EXPECT_NE(what.find("expected"), std::string::npos) << what;
+			EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+		}
+	}
+}
