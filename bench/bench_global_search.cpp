@@ -27,6 +27,7 @@
 #include <pmslam/match/LikelihoodPyramid.h>
 
 #include <chrono>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <random>
@@ -128,13 +129,31 @@ void BM_PyramidBuild(benchmark::State& state)
 	state.counters["cells"] = double(s.pyramid->window().width()) * s.pyramid->window().height();
 }
 
-void runSearches(benchmark::State& state, double minScore)
+// CPU time of this thread: the machine running the benchmark may be shared, and wall time then
+// counts the other programs' turns too.
+double threadSeconds()
+{
+	timespec t{};
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+enum class Mode
+{
+	Exact,
+	CoarseToFine
+};
+
+void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exact)
 {
 	Setup& s = setup(int(state.range(0)));
 	const int beams = int(state.range(1));
 	BranchAndBoundSearch::Options o;
 	o.minScore = minScore;
 	const BranchAndBoundSearch bnb(*s.pyramid, o);
+	// Built outside the timed searches (once per map, like the pyramid).
+	const LikelihoodPyramid coarse = bnb.coarsePyramid();
+	double cpu = 0;
 	std::vector<std::vector<mrpt::math::TPoint2Df>> scans;
 	for (const auto& q : s.queries) scans.push_back(scanOf(s, q, beams));
 	double ok = 0, score = 0, searches = 0, mposes = 0;
@@ -144,7 +163,9 @@ void runSearches(benchmark::State& state, double minScore)
 		double iteration = 0;
 		for (std::size_t q = 0; q < scans.size(); ++q)
 		{
-			const auto r = bnb.searchGlobal(scans[q]);
+			const double c0 = threadSeconds();
+			const auto r = mode == Mode::Exact ? bnb.searchGlobal(scans[q]) : bnb.searchGlobalCoarseToFine(scans[q], coarse);
+			cpu += threadSeconds() - c0;
 			iteration += r.stats.seconds;
 			searches += 1;
 			total.angles += r.stats.angles;
@@ -164,6 +185,9 @@ void runSearches(benchmark::State& state, double minScore)
 		state.SetIterationTime(iteration);
 	}
 	state.counters["ms_per_search"] = 1e3 * total.seconds / searches;
+	state.counters["cpu_ms_per_search"] = 1e3 * cpu / searches;
+	state.counters["pyramid_MB"] = s.pyramid->memoryBytes() / 1e6;
+	if (mode == Mode::CoarseToFine) state.counters["coarse_MB"] = coarse.memoryBytes() / 1e6;
 	state.counters["ok"] = ok / searches;
 	state.counters["score"] = score / searches;
 	state.counters["angles"] = total.angles / searches;
@@ -176,6 +200,7 @@ void runSearches(benchmark::State& state, double minScore)
 
 void BM_GlobalSearch(benchmark::State& state) { runSearches(state, 0.0); }
 void BM_GlobalSearchMinScore(benchmark::State& state) { runSearches(state, 0.5); }
+void BM_CoarseToFine(benchmark::State& state) { runSearches(state, 0.0, Mode::CoarseToFine); }
 
 void BM_BruteForce(benchmark::State& state)
 {
@@ -204,6 +229,15 @@ BENCHMARK(BM_GlobalSearch)
 	->Args({50, 181})
 	->Args({100, 181})
 	->Args({20, 360})
+	->Unit(benchmark::kMillisecond)
+	->UseManualTime()
+	->Iterations(1);
+BENCHMARK(BM_CoarseToFine)
+	->Args({20, 181})
+	->Args({50, 181})
+	->Args({100, 181})
+	->Args({20, 360})
+	->Args({100, 360})
 	->Unit(benchmark::kMillisecond)
 	->UseManualTime()
 	->Iterations(1);

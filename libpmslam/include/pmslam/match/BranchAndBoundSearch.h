@@ -41,6 +41,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace pmslam
@@ -56,6 +57,10 @@ class BranchAndBoundSearch
 		/** Rotation step (rad); 0: resolution / farthest point's range, so that the farthest point
 		 * moves at most about one cell between neighbouring rotations. */
 		double angularStep = 0;
+		/** With angularStep 0, the range that sets the step is this quantile of the kept points'
+		 * ranges (1: the farthest). A few far points need not multiply the rotations: below 1, the
+		 * points beyond that range may move more than a cell between rotations. */
+		double rangeQuantile = 1;
 		/** Mean score in [0, 1] below which nothing is reported; also a pruning threshold from the
 		 * start, so a sensible value (an expected fraction of matched points) speeds the search. */
 		double minScore = 0;
@@ -67,6 +72,26 @@ class BranchAndBoundSearch
 		std::size_t candidates = 1;	 ///< K: distinct candidates returned, best first
 		double distinctLinear = 0.3;  ///< m, neighbourhood of a candidate in translation
 		double distinctAngular = 5.0 * M_PI / 180;	///< rad, neighbourhood of a candidate in rotation
+
+		/** searchGlobalCoarseToFine: the coarse lattice and how its candidates are refined. */
+		struct CoarseToFine
+		{
+			int factor = 4;	 ///< coarse resolution = factor × the pyramid's
+			/** Fine cells by which each coarse cell's max is widened (LikelihoodPyramid::coarsened):
+			 * half a coarse cell plus what half a coarse rotation step moves a point at the quantile
+			 * range, so that the nearest coarse pose keeps the true pose's score. */
+			int dilation = 3;
+			int levels = 8;	 ///< levels of the coarse pyramid
+			std::size_t maxPoints = 64;	 ///< points scored by the coarse search
+			double rangeQuantile = 0.5;	 ///< sets the coarse rotation step (see rangeQuantile)
+			/** Coarse candidates refined (at least `candidates`): the dilated score ties more easily
+			 * than the fine one, so a few of them are re-ranked by the fine score. */
+			std::size_t candidates = 4;
+			double minRelativeScore = 0.9;	///< coarse candidates within this fraction of the best
+			double linearWindow = 0;  ///< refinement ±(m) around a coarse candidate; 0: one coarse cell
+			double angularSteps = 1;  ///< refinement ±(coarse rotation steps)
+		};
+		CoarseToFine coarse;
 	};
 
 	/** The lattice searched. Built by windowLattice() or globalLattice(); public so that a
@@ -128,6 +153,28 @@ class BranchAndBoundSearch
 		return search(globalLattice(points));
 	}
 
+	/** Two-stage global search, for a robot switched on in a big map (see Options::CoarseToFine).
+	 * Stage 1 is search() on the global lattice of `coarse` (every coarse cell centre, every
+	 * heading at the coarse step): the EXACT optimum of the coarse score, the sum over
+	 * Options::coarse.maxPoints points of the dilated max of level 0 (coarsened()). Its
+	 * Options::coarse.candidates best distinct candidates within coarse.minRelativeScore of the
+	 * best are each refined by a window search on this pyramid (±coarse.linearWindow,
+	 * ±coarse.angularSteps coarse steps, all the points this search's options keep): the exact
+	 * optimum of the fine score in that window. The refined poses are re-ranked by fine score,
+	 * made distinct (distinctLinear/distinctAngular) and cut to `candidates` and minRelativeScore.
+	 * Their a, i, j index the window lattice they were refined on. minScore applies to both
+	 * stages (the coarse score of the truth's cell is at least its fine score). Stats: the coarse
+	 * lattice's size, nodes and leaves of both stages, the total time. */
+	Result searchGlobalCoarseToFine(const std::vector<mrpt::math::TPoint2Df>& points,
+									const LikelihoodPyramid& coarse) const;
+	/** The same on coarsePyramid(), built on the first call and kept (shared by copies). */
+	Result searchGlobalCoarseToFine(const std::vector<mrpt::math::TPoint2Df>& points) const;
+	/** The coarse pyramid Options::coarse describes. */
+	LikelihoodPyramid coarsePyramid() const
+	{
+		return m_pyramid.coarsened(m_options.coarse.factor, m_options.coarse.dilation, m_options.coarse.levels);
+	}
+
 	/** The cells (cx_k(a), cy_k(a)) of every point at rotation a, translation (0, 0). */
 	std::vector<std::pair<int, int>> pointCells(const Lattice& lattice, int a) const;
 	/** Upper bound of the node of level h at rotation a, translations [i, i+2^h) × [j, j+2^h): the
@@ -140,8 +187,10 @@ class BranchAndBoundSearch
 	const LikelihoodPyramid& pyramid() const { return m_pyramid; }
 
    private:
+	struct CoarseCache;
 	const LikelihoodPyramid& m_pyramid;
 	Options m_options;
+	std::shared_ptr<CoarseCache> m_coarse;
 	Lattice makeLattice(const std::vector<mrpt::math::TPoint2Df>& points) const;
 };
 
