@@ -61,6 +61,7 @@ class Searcher
    private:
 	int64_t bound(int h, int a, int i, int j) const { return boundBelow(h, a, i, j, 0); }
 	int64_t boundBelow(int h, int a, int i, int j, int64_t limit) const;
+	void childBounds(int h, int a, int i, int j, int64_t limit, int64_t out[4]) const;
 	Key keyOf(int64_t score, int a, int i, int j) const
 	{
 		return {score, (int64_t(a) * m_lat.ny + j) * m_lat.nx + i};
@@ -165,6 +166,45 @@ int64_t Searcher::boundBelow(int h, int a, int i, int j, int64_t limit) const
 	return sum;
 }
 
+void Searcher::childBounds(int h, int a, int i, int j, int64_t limit, int64_t out[4]) const
+{
+	// The four children of a node of level h+1 at once, at level h: [i, i+s) and [i+s, i+2s) in
+	// x, alike in y (s = 2^h). One pass over the points, four loads each from two nearby rows:
+	// the rotated cells and the clamping are shared, and the loads are independent. Early exit as
+	// in boundBelow, once no child can reach `limit`.
+	const LikelihoodPyramid::Level& l = m_pyr.level(h);
+	const int* cx = &m_cx[std::size_t(a) * m_n];
+	const int* cy = &m_cy[std::size_t(a) * m_n];
+	const int s = 1 << h;
+	const int ox = i - l.x0, oy = j - l.y0, wx = l.width - 1, wy = l.height - 1;
+	const uint8_t* cells = l.cells.data();
+	const std::size_t stride = std::size_t(l.width);
+	int64_t sum[4] = {0, 0, 0, 0};
+	for (int k0 = 0; k0 < m_n; k0 += 16)
+	{
+		const int k1 = std::min(m_n, k0 + 16);
+		int p0 = 0, p1 = 0, p2 = 0, p3 = 0;
+		for (int k = k0; k < k1; ++k)
+		{
+			const int x = cx[k] + ox, y = cy[k] + oy;
+			const std::size_t xa = std::size_t(std::clamp(x, 0, wx)), xb = std::size_t(std::clamp(x + s, 0, wx));
+			const uint8_t* ra = cells + std::size_t(std::clamp(y, 0, wy)) * stride;
+			const uint8_t* rb = cells + std::size_t(std::clamp(y + s, 0, wy)) * stride;
+			p0 += ra[xa];
+			p1 += ra[xb];
+			p2 += rb[xa];
+			p3 += rb[xb];
+		}
+		sum[0] += p0;
+		sum[1] += p1;
+		sum[2] += p2;
+		sum[3] += p3;
+		const int64_t best = std::max(std::max(sum[0], sum[1]), std::max(sum[2], sum[3]));
+		if (best + int64_t(m_n - k1) * LikelihoodPyramid::kMaxValue < limit) break;
+	}
+	for (int c = 0; c < 4; ++c) out[c] = sum[c];
+}
+
 std::vector<Pose> Searcher::run()
 {
 	// Every root is scored and the roots are taken best first across all rotations: a good
@@ -197,13 +237,15 @@ std::vector<Pose> Searcher::run()
 void Searcher::descend(int h, int a, int i, int j)
 {
 	const int s = 1 << (h - 1);
+	int64_t b[4];
+	childBounds(h - 1, a, i, j, threshold(), b);
 	Node kids[4];
 	int m = 0;
 	for (int dy = 0; dy < 2; ++dy)
 		for (int dx = 0; dx < 2; ++dx)
 		{
 			const int ci = i + dx * s, cj = j + dy * s;
-			if (ci < m_lat.nx && cj < m_lat.ny) kids[m++] = {boundBelow(h - 1, a, ci, cj, threshold()), a, ci, cj};
+			if (ci < m_lat.nx && cj < m_lat.ny) kids[m++] = {b[dy * 2 + dx], a, ci, cj};
 		}
 	m_stats.nodes += std::size_t(m);
 	sortChildren(kids, m);
@@ -428,6 +470,8 @@ BranchAndBoundSearch::Result BranchAndBoundSearch::searchGlobalCoarseToFine(
 	const Result rough = first.search(lattice);
 	Result out;
 	out.stats = rough.stats;
+	out.stats.coarseSeconds = rough.stats.seconds;
+	out.stats.refined = rough.candidates.size();
 	// Stage 2: each coarse candidate refined on this pyramid, by the fine score.
 	Options fo = m_options;
 	fo.candidates = 1;
@@ -437,7 +481,13 @@ BranchAndBoundSearch::Result BranchAndBoundSearch::searchGlobalCoarseToFine(
 	std::vector<Candidate> refined;
 	for (const Candidate& k : rough.candidates)
 	{
-		const Result r = fine.searchWindow(points, k.pose, lin, c.angularSteps * lattice.angularStep);
+		// Centred on the fine cell centre nearest the coarse pose, so that the refined
+		// translations are those of the fine global lattice (a coarse cell's centre lies on a
+		// fine cell's corner when the factor is even).
+		const double res = m_pyramid.resolution(), ox = m_pyramid.frameOffset().x, oy = m_pyramid.frameOffset().y;
+		const mrpt::math::TPose2D centre((std::floor((k.pose.x - ox) / res) + 0.5) * res + ox,
+										 (std::floor((k.pose.y - oy) / res) + 0.5) * res + oy, k.pose.phi);
+		const Result r = fine.searchWindow(points, centre, lin, c.angularSteps * lattice.angularStep);
 		addWork(out.stats, r.stats);
 		if (!r.candidates.empty()) refined.push_back(r.candidates[0]);
 	}

@@ -78,16 +78,22 @@ class BranchAndBoundSearch
 		{
 			int factor = 4;	 ///< coarse resolution = factor × the pyramid's
 			/** Fine cells by which each coarse cell's max is widened (LikelihoodPyramid::coarsened):
-			 * half a coarse cell plus what half a coarse rotation step moves a point at the quantile
-			 * range, so that the nearest coarse pose keeps the true pose's score. */
-			int dilation = 3;
+			 * half a coarse cell, so that the nearest coarse pose's points still fall in cells
+			 * holding their true wall cells (up to what the rotation step moves them). Measured on
+			 * bench_global_search: 3 (covering half a rotation step at the median range too) blurs
+			 * the score into more near-ties than it saves; 5 loses most searches. */
+			int dilation = 2;
 			int levels = 8;	 ///< levels of the coarse pyramid
 			std::size_t maxPoints = 64;	 ///< points scored by the coarse search
-			double rangeQuantile = 0.5;	 ///< sets the coarse rotation step (see rangeQuantile)
-			/** Coarse candidates refined (at least `candidates`): the dilated score ties more easily
-			 * than the fine one, so a few of them are re-ranked by the fine score. */
-			std::size_t candidates = 4;
-			double minRelativeScore = 0.9;	///< coarse candidates within this fraction of the best
+			/** Sets the coarse rotation step (see rangeQuantile): the median range, so that most
+			 * points move at most about a coarse cell between rotations; far points are few. */
+			double rangeQuantile = 0.5;
+			/** Coarse candidates refined (at least `candidates`): the dilated score of a few points
+			 * ties more easily than the fine score of all of them, so the coarse winner is not
+			 * always the true place; refining is cheap (a small window each), the coarse ranking
+			 * of more candidates is not much dearer. */
+			std::size_t candidates = 16;
+			double minRelativeScore = 0.7;	///< coarse candidates within this fraction of the best
 			double linearWindow = 0;  ///< refinement ±(m) around a coarse candidate; 0: one coarse cell
 			double angularSteps = 1;  ///< refinement ±(coarse rotation steps)
 		};
@@ -124,6 +130,8 @@ class BranchAndBoundSearch
 		std::size_t leaves = 0;	 ///< poses scored in the main search
 		std::size_t climbs = 0, climbNodes = 0;	 ///< neighbourhood searches and the bounds they evaluated
 		double seconds = 0;	 ///< wall time of search() (rotating the points included)
+		double coarseSeconds = 0;  ///< searchGlobalCoarseToFine: wall time of its coarse stage
+		std::size_t refined = 0;  ///< searchGlobalCoarseToFine: coarse candidates refined
 	};
 	struct Result
 	{
