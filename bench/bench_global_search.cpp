@@ -7,18 +7,27 @@
 // DynamicDistanceMap (truncation 0.5 m) with the walls rasterised; the pyramid covers its whole
 // allocated extent (the building plus up to a block of margin).
 //
-// Queries: 5 fixed random poses in corridors or rooms (≥ 0.4 m from walls, seeing beyond 3 m),
-// any heading. Scans are
-// exact ray casts: 181 beams over 180° ("fan181") or 360 over 360° ("ring360"), 30 m max range.
+// Queries: 20 fixed random poses in corridors or rooms (≥ 0.4 m from walls, seeing beyond 3 m),
+// any heading; the exact searches take the first 5 (a 100 m search takes seconds). Scans are
+// exact ray casts: 181 beams over 180° ("181") or 360 over 360° ("360"), 30 m max range; the third
+// argument 1 makes them noisy as a robot's: 2 cm range noise, and one beam in ten cut short by
+// something the map does not hold.
 //
 //  BM_PyramidBuild/S        builds the pyramid (9 levels, σ 0.1 m); counters: pyramid_MB,
 //                           distance_map_MB, cells (level 0).
-//  BM_GlobalSearch/S/beams  one whole-map search (K = 1, every heading, the step from the farthest
-//                           point) per query; time per search; counters: ok (fraction within
-//                           0.1 m and 1° of the truth); means per search of score, angles, roots,
-//                           nodes, leaves, climbs, Mposes (lattice size, millions).
-//  BM_GlobalSearchMinScore  the same with minScore 0.5: a threshold from the start.
-//  (The 50 m and 100 m searches take seconds each: run with --benchmark_filter to pick.)
+//  BM_GlobalSearch/S/beams/noise  one exact whole-map search (searchGlobal: K = 1, every heading,
+//                           the step from the farthest point) per query; time per search (wall)
+//                           and cpu_ms_per_search (this thread's CPU time: the machine may be
+//                           shared); counters: ok (fraction within 0.1 m and 1° of the truth),
+//                           missed (fraction answered wrong with a fine score below the truth's
+//                           own, i.e. lost by the search rather than by the scan's ambiguity);
+//                           means per search of score, angles, roots, nodes, leaves, climbs,
+//                           Mposes (lattice size, millions); pyramid_MB.
+//  BM_CoarseToFine/S/beams/noise  the same with searchGlobalCoarseToFine (default options), the
+//                           coarse pyramid built once beforehand (coarse_MB); coarse_ms: the
+//                           coarse stage's share; refined: coarse candidates refined per search.
+//  BM_GlobalSearchMinScore  the exact search with minScore 0.5: a threshold from the start.
+//  (The exact 50 m and 100 m searches take seconds each: run with --benchmark_filter to pick.)
 //  BM_BruteForce/20         the reference: every lattice pose of the 20 m map scored (row by row,
 //                           vectorisable) for 16 rotations; counter full_s extrapolates to all
 //                           rotations, the time a brute-force whole-map search would take.

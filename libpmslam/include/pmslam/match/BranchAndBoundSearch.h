@@ -28,7 +28,17 @@
  * nodes whose bound reaches the best score so far. In a building, a coarse node's window holds a
  * wall for nearly every point, so bounds only fall below a good match's score a few levels above
  * the cells: the node count, not the leaves or the candidate checks, dominates, and it grows
- * faster than the map's area (bench/bench_global_search.cpp).
+ * faster than the map's area (bench/bench_global_search.cpp): on a 100 m × 100 m building at
+ * 0.05 m, ~10 s of CPU per whole-map search with 181 points.
+ *
+ * searchGlobalCoarseToFine() is the whole-map search for a robot switched on in a big map: the
+ * same exact search on a lattice 4 times coarser (a dilated max of level 0 as its score, 64
+ * points, the rotation step from the median range: about 16 × 25 × 3 times fewer poses × points
+ * than the fine lattice, and a pyramid that fits in cache), then a window search on this
+ * pyramid around each of its best candidates. Each stage is exact on its own lattice; the two
+ * together are not the fine lattice's optimum, but on bench_global_search they find the true
+ * pose whenever the fine optimum would (misses against the truth's own score: 0-5 % with 10 %
+ * clutter) in ~60-80 ms on 100 m × 100 m.
  *
  * Units and frames: metres and radians; points in the robot frame; poses of the robot in the
  * caller's map frame (the pyramid's frame plus its frameOffset()).
