@@ -463,6 +463,7 @@ BranchAndBoundSearch::Result BranchAndBoundSearch::searchGlobalCoarseToFine(
 	Options co = m_options;
 	co.maxPoints = c.maxPoints;
 	co.rangeQuantile = c.rangeQuantile;
+	co.angularStep = 0;	 // a given step is the fine lattice's: the coarse one follows the coarse cells
 	co.candidates = std::max(c.candidates, m_options.candidates);
 	co.minRelativeScore = c.minRelativeScore;
 	const BranchAndBoundSearch first(coarse, co);

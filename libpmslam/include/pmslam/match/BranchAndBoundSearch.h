@@ -181,7 +181,8 @@ class BranchAndBoundSearch
 	 * optimum of the fine score in that window. The refined poses are re-ranked by fine score,
 	 * made distinct (distinctLinear/distinctAngular) and cut to `candidates` and minRelativeScore.
 	 * Their a, i, j index the window lattice they were refined on. minScore applies to both
-	 * stages (the coarse score of the truth's cell is at least its fine score). Stats: the coarse
+	 * stages (the dilated coarse score of the truth's cell is normally above its fine score);
+	 * angularStep, if given, to the refinement only. Stats: the coarse
 	 * lattice's size, nodes and leaves of both stages, the total time. */
 	Result searchGlobalCoarseToFine(const std::vector<mrpt::math::TPoint2Df>& points,
 									const LikelihoodPyramid& coarse) const;
