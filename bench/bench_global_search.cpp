@@ -7,18 +7,27 @@
 // DynamicDistanceMap (truncation 0.5 m) with the walls rasterised; the pyramid covers its whole
 // allocated extent (the building plus up to a block of margin).
 //
-// Queries: 5 fixed random poses in corridors or rooms (≥ 0.4 m from walls, seeing beyond 3 m),
-// any heading. Scans are
-// exact ray casts: 181 beams over 180° ("fan181") or 360 over 360° ("ring360"), 30 m max range.
+// Queries: 20 fixed random poses in corridors or rooms (≥ 0.4 m from walls, seeing beyond 3 m),
+// any heading; the exact searches take the first 5 (a 100 m search takes seconds). Scans are
+// exact ray casts: 181 beams over 180° ("181") or 360 over 360° ("360"), 30 m max range; the third
+// argument 1 makes them noisy as a robot's: 2 cm range noise, and one beam in ten cut short by
+// something the map does not hold.
 //
 //  BM_PyramidBuild/S        builds the pyramid (9 levels, σ 0.1 m); counters: pyramid_MB,
 //                           distance_map_MB, cells (level 0).
-//  BM_GlobalSearch/S/beams  one whole-map search (K = 1, every heading, the step from the farthest
-//                           point) per query; time per search; counters: ok (fraction within
-//                           0.1 m and 1° of the truth); means per search of score, angles, roots,
-//                           nodes, leaves, climbs, Mposes (lattice size, millions).
-//  BM_GlobalSearchMinScore  the same with minScore 0.5: a threshold from the start.
-//  (The 50 m and 100 m searches take seconds each: run with --benchmark_filter to pick.)
+//  BM_GlobalSearch/S/beams/noise  one exact whole-map search (searchGlobal: K = 1, every heading,
+//                           the step from the farthest point) per query; time per search (wall)
+//                           and cpu_ms_per_search (this thread's CPU time: the machine may be
+//                           shared); counters: ok (fraction within 0.1 m and 1° of the truth),
+//                           missed (fraction answered wrong with a fine score below the truth's
+//                           own, i.e. lost by the search rather than by the scan's ambiguity);
+//                           means per search of score, angles, roots, nodes, leaves, climbs,
+//                           Mposes (lattice size, millions); pyramid_MB.
+//  BM_CoarseToFine/S/beams/noise  the same with searchGlobalCoarseToFine (default options), the
+//                           coarse pyramid built once beforehand (coarse_MB); coarse_ms: the
+//                           coarse stage's share; refined: coarse candidates refined per search.
+//  BM_GlobalSearchMinScore  the exact search with minScore 0.5: a threshold from the start.
+//  (The exact 50 m and 100 m searches take seconds each: run with --benchmark_filter to pick.)
 //  BM_BruteForce/20         the reference: every lattice pose of the 20 m map scored (row by row,
 //                           vectorisable) for 16 rotations; counter full_s extrapolates to all
 //                           rotations, the time a brute-force whole-map search would take.
@@ -27,6 +36,7 @@
 #include <pmslam/match/LikelihoodPyramid.h>
 
 #include <chrono>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <random>
@@ -100,7 +110,7 @@ Setup& setup(int side)
 	s.pyramid = std::make_unique<LikelihoodPyramid>(*s.map);
 	std::mt19937 rng(3);
 	// A pose inside a closed piece of furniture is "free" too: keep poses that see beyond 3 m.
-	while (s.queries.size() < 5)
+	while (s.queries.size() < 20)
 	{
 		const TPose2D p = randomFreePose(rng, s.world, side, side);
 		double far = 0;
@@ -113,6 +123,23 @@ Setup& setup(int side)
 std::vector<mrpt::math::TPoint2Df> scanOf(const Setup& s, const TPose2D& p, int beams)
 {
 	return beams == 181 ? castScan(s.world, p, 181, M_PI) : castScan(s.world, p, 360, 2 * M_PI);
+}
+
+// A scan as a robot sees it: ranges with 2 cm of noise, and one beam in ten cut short by
+// something the map does not hold (people, moved chairs), at a random fraction of its range.
+std::vector<mrpt::math::TPoint2Df> noisy(std::vector<mrpt::math::TPoint2Df> pts, unsigned seed)
+{
+	std::mt19937 rng(seed);
+	std::normal_distribution<double> noise(0, 0.02);
+	std::uniform_real_distribution<double> u(0, 1);
+	for (auto& p : pts)
+	{
+		const double r = std::hypot(p.x, p.y);
+		const double to = u(rng) < 0.1 ? r * (0.2 + 0.7 * u(rng)) : r + noise(rng);
+		p.x = float(p.x * to / r);
+		p.y = float(p.y * to / r);
+	}
+	return pts;
 }
 
 void BM_PyramidBuild(benchmark::State& state)
@@ -128,23 +155,47 @@ void BM_PyramidBuild(benchmark::State& state)
 	state.counters["cells"] = double(s.pyramid->window().width()) * s.pyramid->window().height();
 }
 
-void runSearches(benchmark::State& state, double minScore)
+// CPU time of this thread: the machine running the benchmark may be shared, and wall time then
+// counts the other programs' turns too.
+double threadSeconds()
+{
+	timespec t{};
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+enum class Mode
+{
+	Exact,
+	CoarseToFine
+};
+
+void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exact)
 {
 	Setup& s = setup(int(state.range(0)));
 	const int beams = int(state.range(1));
+	const bool withNoise = state.range(2) != 0;
 	BranchAndBoundSearch::Options o;
 	o.minScore = minScore;
 	const BranchAndBoundSearch bnb(*s.pyramid, o);
+	// Built outside the timed searches (once per map, like the pyramid).
+	const LikelihoodPyramid coarse = bnb.coarsePyramid();
+	double cpu = 0;
 	std::vector<std::vector<mrpt::math::TPoint2Df>> scans;
-	for (const auto& q : s.queries) scans.push_back(scanOf(s, q, beams));
-	double ok = 0, score = 0, searches = 0, mposes = 0;
+	// The exact search of a big map takes seconds: 5 queries; the two-stage search all 20.
+	const std::size_t queries = mode == Mode::Exact ? 5 : s.queries.size();
+	for (std::size_t q = 0; q < queries; ++q)
+		scans.push_back(withNoise ? noisy(scanOf(s, s.queries[q], beams), unsigned(q)) : scanOf(s, s.queries[q], beams));
+	double ok = 0, missed = 0, score = 0, searches = 0, mposes = 0;
 	BranchAndBoundSearch::Stats total;
 	for (auto _ : state)
 	{
 		double iteration = 0;
 		for (std::size_t q = 0; q < scans.size(); ++q)
 		{
-			const auto r = bnb.searchGlobal(scans[q]);
+			const double c0 = threadSeconds();
+			const auto r = mode == Mode::Exact ? bnb.searchGlobal(scans[q]) : bnb.searchGlobalCoarseToFine(scans[q], coarse);
+			cpu += threadSeconds() - c0;
 			iteration += r.stats.seconds;
 			searches += 1;
 			total.angles += r.stats.angles;
@@ -155,16 +206,37 @@ void runSearches(benchmark::State& state, double minScore)
 			total.leaves += r.stats.leaves;
 			total.climbs += r.stats.climbs;
 			total.seconds += r.stats.seconds;
-			if (r.candidates.empty()) continue;
-			const auto& p = r.candidates[0].pose;
+			total.coarseSeconds += r.stats.coarseSeconds;
+			total.refined += r.stats.refined;
 			const auto& t = s.queries[q];
-			ok += std::hypot(p.x - t.x, p.y - t.y) < 0.1 && std::abs(angleDiff(p.phi, t.phi)) < M_PI / 180;
+			// The fine score at the truth (the best pose next to it): a wrong answer scoring less
+			// is a miss of the search; one scoring more is the scan's ambiguity.
+			const auto atTruth = bnb.searchWindow(scans[q], t, 0.1, 0.02);
+			const double truthScore = atTruth.candidates.empty() ? 0 : atTruth.candidates[0].score;
+			if (r.candidates.empty())
+			{
+				missed += truthScore > 0;
+				continue;
+			}
+			const auto& p = r.candidates[0].pose;
+			const bool found = std::hypot(p.x - t.x, p.y - t.y) < 0.1 && std::abs(angleDiff(p.phi, t.phi)) < M_PI / 180;
+			ok += found;
+			missed += !found && r.candidates[0].score < truthScore;
 			score += r.candidates[0].score;
 		}
 		state.SetIterationTime(iteration);
 	}
 	state.counters["ms_per_search"] = 1e3 * total.seconds / searches;
+	state.counters["cpu_ms_per_search"] = 1e3 * cpu / searches;
+	state.counters["pyramid_MB"] = s.pyramid->memoryBytes() / 1e6;
+	if (mode == Mode::CoarseToFine)
+	{
+		state.counters["coarse_MB"] = coarse.memoryBytes() / 1e6;
+		state.counters["coarse_ms"] = 1e3 * total.coarseSeconds / searches;
+		state.counters["refined"] = double(total.refined) / searches;
+	}
 	state.counters["ok"] = ok / searches;
+	state.counters["missed"] = missed / searches;
 	state.counters["score"] = score / searches;
 	state.counters["angles"] = total.angles / searches;
 	state.counters["Mposes"] = mposes / searches;
@@ -176,6 +248,7 @@ void runSearches(benchmark::State& state, double minScore)
 
 void BM_GlobalSearch(benchmark::State& state) { runSearches(state, 0.0); }
 void BM_GlobalSearchMinScore(benchmark::State& state) { runSearches(state, 0.5); }
+void BM_CoarseToFine(benchmark::State& state) { runSearches(state, 0.0, Mode::CoarseToFine); }
 
 void BM_BruteForce(benchmark::State& state)
 {
@@ -200,16 +273,29 @@ void BM_BruteForce(benchmark::State& state)
 
 BENCHMARK(BM_PyramidBuild)->Arg(20)->Arg(50)->Arg(100)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_GlobalSearch)
-	->Args({20, 181})
-	->Args({50, 181})
-	->Args({100, 181})
-	->Args({20, 360})
+	->Args({20, 181, 0})
+	->Args({50, 181, 0})
+	->Args({100, 181, 0})
+	->Args({20, 360, 0})
+	->Unit(benchmark::kMillisecond)
+	->UseManualTime()
+	->Iterations(1);
+BENCHMARK(BM_CoarseToFine)
+	->Args({20, 181, 0})
+	->Args({50, 181, 0})
+	->Args({100, 181, 0})
+	->Args({20, 360, 0})
+	->Args({100, 360, 0})
+	->Args({20, 181, 1})
+	->Args({50, 181, 1})
+	->Args({100, 181, 1})
+	->Args({100, 360, 1})
 	->Unit(benchmark::kMillisecond)
 	->UseManualTime()
 	->Iterations(1);
 BENCHMARK(BM_GlobalSearchMinScore)
-	->Args({20, 181})
-	->Args({50, 181})
+	->Args({20, 181, 0})
+	->Args({50, 181, 0})
 	->Unit(benchmark::kMillisecond)
 	->UseManualTime()
 	->Iterations(1);

@@ -287,3 +287,161 @@ TEST(BranchAndBoundSearch, IrregularRoomIsNotAmbiguous)
 	EXPECT_NEAR(result.candidates[0].pose.y, truth.y, 0.05);
 	EXPECT_LT(result.candidates[1].score, 0.8 * result.candidates[0].score);
 }
+
+TEST(LikelihoodPyramid, CoarsenedLevelZeroIsTheDilatedMaxOfTheFineOne)
+{
+	std::mt19937 rng(19);
+	Case c = randomCase(rng, 0.05, 4, 3);
+	const LikelihoodPyramid fine(c.map);
+	const int factor = 4, dilation = 2;
+	const LikelihoodPyramid coarse = fine.coarsened(factor, dilation, 5);
+	EXPECT_DOUBLE_EQ(coarse.resolution(), 0.2);
+	EXPECT_EQ(coarse.levels(), 5);
+	const auto& w = coarse.window();
+	std::uniform_int_distribution<int> ux(w.minX - 5, w.maxX + 5), uy(w.minY - 5, w.maxY + 5);
+	int nonZero = 0;
+	for (int probe = 0; probe < 300; ++probe)
+	{
+		const int x = ux(rng), y = uy(rng);
+		const bool inside = x >= w.minX && x <= w.maxX && y >= w.minY && y <= w.maxY;
+		int best = 0;
+		for (int fy = y * factor - dilation; fy < (y + 1) * factor + dilation; ++fy)
+			for (int fx = x * factor - dilation; fx < (x + 1) * factor + dilation; ++fx)
+				best = std::max(best, fine.value(0, fx, fy));
+		ASSERT_EQ(coarse.value(0, x, y), inside ? best : 0) << x << "," << y;
+		nonZero += best > 0;
+		for (int h = 1; h < coarse.levels(); ++h)
+		{
+			int pooled = 0;
+			for (int dy = 0; dy < (1 << h); ++dy)
+				for (int dx = 0; dx < (1 << h); ++dx) pooled = std::max(pooled, coarse.value(0, x + dx, y + dy));
+			ASSERT_EQ(coarse.value(h, x, y), pooled) << "level " << h << " at " << x << "," << y;
+		}
+	}
+	EXPECT_GT(nonZero, 30);	// the probes did see walls
+}
+
+TEST(BranchAndBoundSearch, CoarseLatticeSearchEqualsBruteForce)
+{
+	// The coarse stage is search() on a coarsened pyramid: still the exact optimum of its lattice.
+	std::mt19937 rng(20);
+	for (int trial = 0; trial < 3; ++trial)
+	{
+		Case c = randomCase(rng, 0.05, 8, 6);
+		const LikelihoodPyramid coarse = LikelihoodPyramid(c.map).coarsened(4, 2, 6);
+		BranchAndBoundSearch::Options o;
+		o.candidates = 3;
+		o.maxPoints = 64;
+		o.rangeQuantile = 0.5;
+		const BranchAndBoundSearch bnb(coarse, o);
+		const auto lat = bnb.globalLattice(castScan(c.world, randomFreePose(rng, c.world, c.w, c.h), 181, M_PI));
+		expectSameCandidates(bnb.search(lat), bruteForceCandidates(bruteForceScores(bnb, lat), lat, o.candidates),
+							 "trial " + std::to_string(trial));
+	}
+}
+
+TEST(BranchAndBoundSearch, RangeQuantileSetsTheRotationStep)
+{
+	std::mt19937 rng(21);
+	Case c = randomCase(rng, 0.05, 10, 8);
+	const LikelihoodPyramid pyr(c.map);
+	const auto pts = castScan(c.world, randomFreePose(rng, c.world, c.w, c.h), 360, 2 * M_PI);
+	std::vector<double> ranges;
+	for (const auto& p : pts) ranges.push_back(std::hypot(p.x, p.y));
+	std::sort(ranges.begin(), ranges.end());
+	BranchAndBoundSearch::Options o;
+	const auto all = BranchAndBoundSearch(pyr, o).globalLattice(pts);
+	EXPECT_EQ(all.angles.size(), std::size_t(std::ceil(2 * M_PI * ranges.back() / 0.05 - 1e-9)));
+	o.rangeQuantile = 0.5;
+	const auto median = BranchAndBoundSearch(pyr, o).globalLattice(pts);
+	const double r = ranges[std::size_t(std::lround(0.5 * double(ranges.size() - 1)))];
+	EXPECT_EQ(median.angles.size(), std::size_t(std::ceil(2 * M_PI * r / 0.05 - 1e-9)));
+	EXPECT_LT(median.angles.size(), all.angles.size());
+}
+
+TEST(BranchAndBoundSearch, CoarseToFineFindsTheTruePose)
+{
+	// Random worlds bigger than the coarse cells by far; a full scan and a half one.
+	std::mt19937 rng(22);
+	int found = 0, trials = 0;
+	for (int trial = 0; trial < 10; ++trial)
+	{
+		Case c{randomRooms(rng, 16, 12, 5, 10), DynamicDistanceMap(0.05, 0.5), 16, 12};
+		rasterise(c.world, c.map);
+		const LikelihoodPyramid pyr(c.map);
+		const BranchAndBoundSearch bnb(pyr);
+		const TPose2D truth = randomFreePose(rng, c.world, c.w, c.h);
+		const auto pts = trial % 2 ? castScan(c.world, truth, 181, M_PI) : castScan(c.world, truth, 360, 2 * M_PI);
+		const auto result = bnb.searchGlobalCoarseToFine(pts);
+		ASSERT_EQ(result.candidates.size(), 1u);
+		EXPECT_GT(result.stats.refined, 0u);
+		EXPECT_GT(result.stats.coarseSeconds, 0.0);
+		const TPose2D& p = result.candidates[0].pose;
+		// A refined pose is a fine cell centre within half a cell of the truth, and its heading
+		// within a fine step or so.
+		const double step = bnb.globalLattice(pts).angularStep;
+		const bool ok = std::abs(p.x - truth.x) <= 0.05 && std::abs(p.y - truth.y) <= 0.05 &&
+						std::abs(angleDiff(p.phi, truth.phi)) <= 1.5 * step;
+		EXPECT_TRUE(ok) << "trial " << trial << ": " << p.x << "," << p.y << "," << p.phi << " truth " << truth.x
+						<< "," << truth.y << "," << truth.phi;
+		EXPECT_GT(result.candidates[0].score, 0.6) << "trial " << trial;
+		found += ok;
+		++trials;
+	}
+	EXPECT_EQ(found, trials);
+}
+
+TEST(BranchAndBoundSearch, CoarseToFineAgreesWithTheExhaustiveSearch)
+{
+	// On a map small enough for the exact fine search: the same place, and the refined score (the
+	// fine score on the refinement's window, whose rotations differ) as good to within a percent.
+	std::mt19937 rng(23);
+	for (int trial = 0; trial < 4; ++trial)
+	{
+		Case c = randomCase(rng, 0.05, 10, 8);
+		const LikelihoodPyramid pyr(c.map);
+		const BranchAndBoundSearch bnb(pyr);
+		const auto pts = castScan(c.world, randomFreePose(rng, c.world, c.w, c.h), 360, 2 * M_PI);
+		const auto exact = bnb.searchGlobal(pts);
+		const auto fast = bnb.searchGlobalCoarseToFine(pts);
+		ASSERT_EQ(exact.candidates.size(), 1u);
+		ASSERT_EQ(fast.candidates.size(), 1u);
+		const TPose2D &e = exact.candidates[0].pose, &f = fast.candidates[0].pose;
+		EXPECT_LE(std::hypot(e.x - f.x, e.y - f.y), 0.075) << "trial " << trial;
+		EXPECT_LE(std::abs(angleDiff(e.phi, f.phi)), 0.02) << "trial " << trial;
+		EXPECT_GT(fast.candidates[0].score, 0.99 * exact.candidates[0].score) << "trial " << trial;
+		// The point of it: far less work.
+		EXPECT_LT(fast.stats.nodes, exact.stats.nodes / 2) << "trial " << trial;
+	}
+}
+
+TEST(BranchAndBoundSearch, CoarseToFineReportsTheSquareRoomsFourPoses)
+{
+	// The re-ranking keeps distinct candidates: the four symmetric poses of a square room, alike.
+	SyntheticWorld world;
+	world.addBox(0.025, 0.025, 6.025, 6.025);
+	DynamicDistanceMap map(0.05, 0.5);
+	rasterise(world, map);
+	const LikelihoodPyramid pyr(map);
+	BranchAndBoundSearch::Options o;
+	o.candidates = 5;
+	o.minRelativeScore = 0.8;
+	const BranchAndBoundSearch bnb(pyr, o);
+	const TPose2D truth(1.7, 4.1, -0.7);
+	const auto result = bnb.searchGlobalCoarseToFine(castScan(world, truth, 360, 2 * M_PI));
+	ASSERT_EQ(result.candidates.size(), 4u);
+	for (int k = 0; k < 4; ++k)
+	{
+		const TPose2D& p = result.candidates[std::size_t(k)].pose;
+		EXPECT_GT(result.candidates[std::size_t(k)].score, 0.95 * result.candidates[0].score) << "candidate " << k;
+		bool matched = false;
+		for (int q = 0; q < 4; ++q)
+		{
+			const double c = std::cos(q * M_PI / 2), s = std::sin(q * M_PI / 2);
+			const double x = 3.025 + c * (truth.x - 3.025) - s * (truth.y - 3.025);
+			const double y = 3.025 + s * (truth.x - 3.025) + c * (truth.y - 3.025);
+			matched |= std::hypot(p.x - x, p.y - y) < 0.08 && std::abs(angleDiff(p.phi, truth.phi + q * M_PI / 2)) < 0.03;
+		}
+		EXPECT_TRUE(matched) << "candidate " << k << " at " << p.x << "," << p.y << "," << p.phi;
+	}
+}

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
 #include <unordered_set>
 
@@ -58,7 +59,9 @@ class Searcher
 	std::vector<Pose> run();
 
    private:
-	int64_t bound(int h, int a, int i, int j) const;
+	int64_t bound(int h, int a, int i, int j) const { return boundBelow(h, a, i, j, 0); }
+	int64_t boundBelow(int h, int a, int i, int j, int64_t limit) const;
+	void childBounds(int h, int a, int i, int j, int64_t limit, int64_t out[4]) const;
 	Key keyOf(int64_t score, int a, int i, int j) const
 	{
 		return {score, (int64_t(a) * m_lat.ny + j) * m_lat.nx + i};
@@ -135,10 +138,12 @@ Searcher::Searcher(const LikelihoodPyramid& pyramid, const Lattice& lattice,
 	stats.points = std::size_t(m_n);
 }
 
-int64_t Searcher::bound(int h, int a, int i, int j) const
+int64_t Searcher::boundBelow(int h, int a, int i, int j, int64_t limit) const
 {
 	// The hot loop: one clamped byte load per point (clamping keeps points that leave the
-	// padded level on its zero border, which is exactly their value).
+	// padded level on its zero border, which is exactly their value). Every 16 points, a sum
+	// that cannot reach `limit` even if every remaining point scored the maximum stops early:
+	// the node is pruned all the same, and the partial sum returned is below `limit` too.
 	const LikelihoodPyramid::Level& l = m_pyr.level(h);
 	const int* cx = &m_cx[std::size_t(a) * m_n];
 	const int* cy = &m_cy[std::size_t(a) * m_n];
@@ -146,12 +151,58 @@ int64_t Searcher::bound(int h, int a, int i, int j) const
 	const uint8_t* cells = l.cells.data();
 	const std::size_t stride = std::size_t(l.width);
 	int64_t sum = 0;
-	for (int k = 0; k < m_n; ++k)
+	for (int k0 = 0; k0 < m_n; k0 += 16)
 	{
-		const int x = std::clamp(cx[k] + ox, 0, wx), y = std::clamp(cy[k] + oy, 0, wy);
-		sum += cells[std::size_t(y) * stride + std::size_t(x)];
+		const int k1 = std::min(m_n, k0 + 16);
+		int part = 0;
+		for (int k = k0; k < k1; ++k)
+		{
+			const int x = std::clamp(cx[k] + ox, 0, wx), y = std::clamp(cy[k] + oy, 0, wy);
+			part += cells[std::size_t(y) * stride + std::size_t(x)];
+		}
+		sum += part;
+		if (sum + int64_t(m_n - k1) * LikelihoodPyramid::kMaxValue < limit) return sum;
 	}
 	return sum;
+}
+
+void Searcher::childBounds(int h, int a, int i, int j, int64_t limit, int64_t out[4]) const
+{
+	// The four children of a node of level h+1 at once, at level h: [i, i+s) and [i+s, i+2s) in
+	// x, alike in y (s = 2^h). One pass over the points, four loads each from two nearby rows:
+	// the rotated cells and the clamping are shared, and the loads are independent. Early exit as
+	// in boundBelow, once no child can reach `limit`.
+	const LikelihoodPyramid::Level& l = m_pyr.level(h);
+	const int* cx = &m_cx[std::size_t(a) * m_n];
+	const int* cy = &m_cy[std::size_t(a) * m_n];
+	const int s = 1 << h;
+	const int ox = i - l.x0, oy = j - l.y0, wx = l.width - 1, wy = l.height - 1;
+	const uint8_t* cells = l.cells.data();
+	const std::size_t stride = std::size_t(l.width);
+	int64_t sum[4] = {0, 0, 0, 0};
+	for (int k0 = 0; k0 < m_n; k0 += 16)
+	{
+		const int k1 = std::min(m_n, k0 + 16);
+		int p0 = 0, p1 = 0, p2 = 0, p3 = 0;
+		for (int k = k0; k < k1; ++k)
+		{
+			const int x = cx[k] + ox, y = cy[k] + oy;
+			const std::size_t xa = std::size_t(std::clamp(x, 0, wx)), xb = std::size_t(std::clamp(x + s, 0, wx));
+			const uint8_t* ra = cells + std::size_t(std::clamp(y, 0, wy)) * stride;
+			const uint8_t* rb = cells + std::size_t(std::clamp(y + s, 0, wy)) * stride;
+			p0 += ra[xa];
+			p1 += ra[xb];
+			p2 += rb[xa];
+			p3 += rb[xb];
+		}
+		sum[0] += p0;
+		sum[1] += p1;
+		sum[2] += p2;
+		sum[3] += p3;
+		const int64_t best = std::max(std::max(sum[0], sum[1]), std::max(sum[2], sum[3]));
+		if (best + int64_t(m_n - k1) * LikelihoodPyramid::kMaxValue < limit) break;
+	}
+	for (int c = 0; c < 4; ++c) out[c] = sum[c];
 }
 
 std::vector<Pose> Searcher::run()
@@ -186,13 +237,15 @@ std::vector<Pose> Searcher::run()
 void Searcher::descend(int h, int a, int i, int j)
 {
 	const int s = 1 << (h - 1);
+	int64_t b[4];
+	childBounds(h - 1, a, i, j, threshold(), b);
 	Node kids[4];
 	int m = 0;
 	for (int dy = 0; dy < 2; ++dy)
 		for (int dx = 0; dx < 2; ++dx)
 		{
 			const int ci = i + dx * s, cj = j + dy * s;
-			if (ci < m_lat.nx && cj < m_lat.ny) kids[m++] = {bound(h - 1, a, ci, cj), a, ci, cj};
+			if (ci < m_lat.nx && cj < m_lat.ny) kids[m++] = {b[dy * 2 + dx], a, ci, cj};
 		}
 	m_stats.nodes += std::size_t(m);
 	sortChildren(kids, m);
@@ -350,7 +403,7 @@ void Searcher::localDescend(int h, const Node& n, const Pose& centre, Pose& best
 		for (int dx = 0; dx < 2; ++dx)
 		{
 			const int ci = n.i + dx * s, cj = n.j + dy * s;
-			if (reaches(h - 1, ci, cj, centre)) kids[m++] = {bound(h - 1, n.a, ci, cj), n.a, ci, cj};
+			if (reaches(h - 1, ci, cj, centre)) kids[m++] = {boundBelow(h - 1, n.a, ci, cj, best.key.score), n.a, ci, cj};
 		}
 	m_stats.climbNodes += std::size_t(m);
 	sortChildren(kids, m);
@@ -365,9 +418,96 @@ void Searcher::insertPeak(const Pose& p)
 }
 }  // namespace
 
-BranchAndBoundSearch::BranchAndBoundSearch(const LikelihoodPyramid& pyramid, const Options& options)
-	: m_pyramid(pyramid), m_options(options)
+struct BranchAndBoundSearch::CoarseCache
 {
+	std::once_flag once;
+	std::unique_ptr<LikelihoodPyramid> pyramid;
+};
+
+BranchAndBoundSearch::BranchAndBoundSearch(const LikelihoodPyramid& pyramid, const Options& options)
+	: m_pyramid(pyramid), m_options(options), m_coarse(std::make_shared<CoarseCache>())
+{
+}
+
+BranchAndBoundSearch::Result BranchAndBoundSearch::searchGlobalCoarseToFine(
+	const std::vector<mrpt::math::TPoint2Df>& points) const
+{
+	std::call_once(m_coarse->once, [&] { m_coarse->pyramid = std::make_unique<LikelihoodPyramid>(coarsePyramid()); });
+	return searchGlobalCoarseToFine(points, *m_coarse->pyramid);
+}
+
+namespace
+{
+bool near(const BranchAndBoundSearch::Candidate& a, const BranchAndBoundSearch::Candidate& b, double linear,
+		  double angular)
+{
+	return std::hypot(a.pose.x - b.pose.x, a.pose.y - b.pose.y) <= linear &&
+		   std::abs(mrpt::math::wrapToPi(a.pose.phi - b.pose.phi)) <= angular;
+}
+
+void addWork(BranchAndBoundSearch::Stats& total, const BranchAndBoundSearch::Stats& s)
+{
+	total.nodes += s.nodes;
+	total.leaves += s.leaves;
+	total.climbs += s.climbs;
+	total.climbNodes += s.climbNodes;
+}
+}  // namespace
+
+BranchAndBoundSearch::Result BranchAndBoundSearch::searchGlobalCoarseToFine(
+	const std::vector<mrpt::math::TPoint2Df>& points, const LikelihoodPyramid& coarse) const
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	const Options::CoarseToFine& c = m_options.coarse;
+	// Stage 1: the exact optimum of the coarse score on the coarse global lattice.
+	Options co = m_options;
+	co.maxPoints = c.maxPoints;
+	co.rangeQuantile = c.rangeQuantile;
+	co.angularStep = 0;	 // a given step is the fine lattice's: the coarse one follows the coarse cells
+	co.candidates = std::max(c.candidates, m_options.candidates);
+	co.minRelativeScore = c.minRelativeScore;
+	const BranchAndBoundSearch first(coarse, co);
+	const Lattice lattice = first.globalLattice(points);
+	const Result rough = first.search(lattice);
+	Result out;
+	out.stats = rough.stats;
+	out.stats.coarseSeconds = rough.stats.seconds;
+	out.stats.refined = rough.candidates.size();
+	// Stage 2: each coarse candidate refined on this pyramid, by the fine score.
+	Options fo = m_options;
+	fo.candidates = 1;
+	fo.minRelativeScore = 0;
+	const BranchAndBoundSearch fine(m_pyramid, fo);
+	const double lin = c.linearWindow > 0 ? c.linearWindow : coarse.resolution();
+	std::vector<Candidate> refined;
+	for (const Candidate& k : rough.candidates)
+	{
+		// Centred on the fine cell centre nearest the coarse pose, so that the refined
+		// translations are those of the fine global lattice (a coarse cell's centre lies on a
+		// fine cell's corner when the factor is even).
+		const double res = m_pyramid.resolution(), ox = m_pyramid.frameOffset().x, oy = m_pyramid.frameOffset().y;
+		const mrpt::math::TPose2D centre((std::floor((k.pose.x - ox) / res) + 0.5) * res + ox,
+										 (std::floor((k.pose.y - oy) / res) + 0.5) * res + oy, k.pose.phi);
+		const Result r = fine.searchWindow(points, centre, lin, c.angularSteps * lattice.angularStep);
+		addWork(out.stats, r.stats);
+		if (!r.candidates.empty()) refined.push_back(r.candidates[0]);
+	}
+	// Best fine score first (ties: the better coarse rank, kept by the stable sort); each kept
+	// when no better one lies in its neighbourhood.
+	std::stable_sort(refined.begin(), refined.end(),
+					 [](const Candidate& l, const Candidate& r) { return l.rawScore > r.rawScore; });
+	for (const Candidate& k : refined)
+	{
+		if (out.candidates.size() >= std::max<std::size_t>(1, m_options.candidates)) break;
+		if (!out.candidates.empty() && k.score < m_options.minRelativeScore * out.candidates.front().score - 1e-12)
+			break;
+		const bool shadowed = std::any_of(out.candidates.begin(), out.candidates.end(), [&](const Candidate& b) {
+			return near(k, b, m_options.distinctLinear, m_options.distinctAngular);
+		});
+		if (!shadowed) out.candidates.push_back(k);
+	}
+	out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return out;
 }
 
 BranchAndBoundSearch::Lattice BranchAndBoundSearch::makeLattice(const std::vector<mrpt::math::TPoint2Df>& points) const
@@ -375,15 +515,23 @@ BranchAndBoundSearch::Lattice BranchAndBoundSearch::makeLattice(const std::vecto
 	Lattice l;
 	const std::size_t maxPts = m_options.maxPoints ? m_options.maxPoints : points.size();
 	const std::size_t stride = std::max<std::size_t>(1, (points.size() + maxPts - 1) / std::max<std::size_t>(1, maxPts));
-	double far = 0;
+	std::vector<double> ranges;
 	for (std::size_t k = 0; k < points.size(); k += stride)
 		if (std::isfinite(points[k].x) && std::isfinite(points[k].y))
 		{
 			l.points.push_back(points[k]);
-			far = std::max(far, double(std::hypot(points[k].x, points[k].y)));
+			ranges.push_back(std::hypot(points[k].x, points[k].y));
 		}
+	double far = 0;
+	if (!ranges.empty())
+	{
+		const double q = std::clamp(m_options.rangeQuantile, 0.0, 1.0);
+		const auto at = ranges.begin() + std::ptrdiff_t(std::lround(q * double(ranges.size() - 1)));
+		std::nth_element(ranges.begin(), at, ranges.end());
+		far = *at;
+	}
 	const double res = m_pyramid.resolution();
-	// The farthest point moves by range · step: one cell at most. (A point closer than two cells
+	// The farthest point (or the quantile's) moves by range · step: one cell at most. (A point closer than two cells
 	// would ask for absurdly many rotations.)
 	l.angularStep = m_options.angularStep > 0 ? m_options.angularStep : res / std::max(far, 2 * res);
 	l.linearRadius = m_options.distinctLinear / res;

@@ -50,6 +50,57 @@ LikelihoodPyramid LikelihoodPyramid::fromGrid(const mrpt::maps::COccupancyGridMa
 	return p;
 }
 
+LikelihoodPyramid LikelihoodPyramid::coarsened(int factor, int dilation, int levels) const
+{
+	if (factor < 1 || dilation < 0) throw std::invalid_argument("LikelihoodPyramid::coarsened: bad factor or dilation");
+	if (levels < 1 || levels > 16) throw std::invalid_argument("LikelihoodPyramid: levels must be in [1, 16]");
+	LikelihoodPyramid c;
+	c.m_options = m_options;
+	c.m_options.levels = levels;
+	c.m_resolution = m_resolution * factor;
+	c.m_maxDistance = m_maxDistance;
+	c.m_offset = m_offset;
+	auto down = [&](int v) { return int(std::floor(double(v) / factor)); };
+	c.m_window = {down(m_window.minX), down(m_window.minY), down(m_window.maxX), down(m_window.maxY)};
+	c.m_levels.resize(std::size_t(levels));
+	Level& l = c.m_levels[0];
+	l.x0 = c.m_window.minX - 1;
+	l.y0 = c.m_window.minY - 1;
+	l.width = c.m_window.width() + 2;
+	l.height = c.m_window.height() + 2;
+	l.cells.assign(std::size_t(l.width) * std::size_t(l.height), 0);
+	// Separable: first the max along x over each coarse column's span of every fine row, then
+	// along y. The padding border stays 0, as every level's must (a clamped look-up far outside
+	// the map lands on it).
+	const Level& f = m_levels[0];
+	const int span = factor + 2 * dilation;
+	std::vector<uint8_t> rows(std::size_t(l.width) * std::size_t(f.height), 0);
+	for (int y = 0; y < f.height; ++y)
+	{
+		const uint8_t* in = &f.cells[std::size_t(y) * std::size_t(f.width)];
+		uint8_t* out = &rows[std::size_t(y) * std::size_t(l.width)];
+		for (int x = 1; x + 1 < l.width; ++x)
+		{
+			const int start = (l.x0 + x) * factor - dilation - f.x0;
+			uint8_t m = 0;
+			for (int k = std::max(0, start); k < std::min(f.width, start + span); ++k) m = std::max(m, in[k]);
+			out[x] = m;
+		}
+	}
+	for (int y = 1; y + 1 < l.height; ++y)
+	{
+		const int start = (l.y0 + y) * factor - dilation - f.y0;
+		uint8_t* out = &l.cells[std::size_t(y) * std::size_t(l.width)];
+		for (int k = std::max(0, start); k < std::min(f.height, start + span); ++k)
+		{
+			const uint8_t* in = &rows[std::size_t(k) * std::size_t(l.width)];
+			for (int x = 0; x < l.width; ++x) out[x] = std::max(out[x], in[x]);
+		}
+	}
+	for (int h = 1; h < levels; ++h) c.buildLevel(h);
+	return c;
+}
+
 int LikelihoodPyramid::quantise(double d) const
 {
 	// Rescaled so that the truncation scores 0: a point in unknown or empty space adds nothing,

@@ -98,6 +98,16 @@ class LikelihoodPyramid
 		const int x = std::clamp(cx - l.x0, 0, l.width - 1), y = std::clamp(cy - l.y0, 0, l.height - 1);
 		return l.cells[std::size_t(y) * std::size_t(l.width) + std::size_t(x)];
 	}
+	/** A pyramid `factor` times coarser over the same area, for a coarse global lattice: its cell
+	 * (I, J) covers fine cells [factor·I, factor·I + factor) (same frame, same offset), and its level
+	 * 0 holds the max of this pyramid's level 0 over those cells widened by `dilation` fine cells on
+	 * every side. Why widened: a coarse lattice pose lies up to half a coarse cell (plus what half a
+	 * coarse rotation step moves a point) from the truth; with dilation ≥ that displacement, the true
+	 * wall cell of every point stays inside the coarse cell it falls in, so the nearest coarse pose
+	 * scores at least what the true pose scores on the fine field. Levels above are max pools as
+	 * usual; `options` gives their count (σ is inherited: it only describes level 0's values). */
+	LikelihoodPyramid coarsened(int factor, int dilation, int levels) const;
+
 	/** The quantised likelihood of a distance d (m), as level 0 stores it. */
 	int quantise(double d) const;
 
@@ -105,6 +115,7 @@ class LikelihoodPyramid
 	std::size_t memoryBytes() const;
 
    private:
+	LikelihoodPyramid() = default;
 	void buildLevel0(const DynamicDistanceMap& map);
 	void buildLevel(int h);
 
