@@ -112,7 +112,7 @@ int main(int argc, char** argv)
 			++undecided;
 			continue;
 		}
-		const auto p = g.best()->first;
+		const auto p = g.best()->origin;
 		const bool right = std::hypot(p.x - ref->second.x, p.y - ref->second.y) <= 0.3 &&
 						   std::abs(mrpt::math::wrapToPi(p.phi - ref->second.phi)) <= 5 * M_PI / 180;
 		if (!right)

@@ -30,7 +30,7 @@ bool SlamRun::offerForStart(const pmslam::LogEvent& ev)
 		return false;
 	}
 	if (m_start->addScan(*ev.scan, m_startOdometry.forScan(ev)) != pmslam::GlobalLocalizer::State::Found) return false;
-	localize(*m_startMap, m_start->best()->first);
+	localize(*m_startMap, m_start->best()->origin);
 	return true;
 }
 

@@ -114,7 +114,7 @@ bool sayStart(const pmslam::GlobalLocalizer& g)
 		std::snprintf(line, sizeof line,
 					  "global localisation: start found at %.3f %.3f %.1f deg after %zu scans (its matches %.2f, the "
 					  "best rival's %.2f; %zu whole-map searches, %.2f s)",
-					  best->first.x, best->first.y, mrpt::RAD2DEG(best->first.phi), g.scansUsed(), best->mean(),
+					  best->origin.x, best->origin.y, mrpt::RAD2DEG(best->origin.phi), g.scansUsed(), best->mean(),
 					  g.runnerUp(), g.searches(), g.searchSeconds());
 		say(line);
 		return true;

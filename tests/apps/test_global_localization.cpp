@@ -89,7 +89,7 @@ TEST_F(GlobalLocalization, FindsTheStartFromScansAnywhereOnTheLog)
 		for (std::size_t s = s0; s < scans.size() && g.state() == pmslam::GlobalLocalizer::State::Searching; ++s)
 			g.addScan(*scans[s].event.scan, scans[s].odometry);
 		ASSERT_EQ(g.state(), pmslam::GlobalLocalizer::State::Found) << "start scan " << s0;
-		const auto p = g.best()->first;
+		const auto p = g.best()->origin;
 		const double d = std::hypot(p.x - slam[s0].x, p.y - slam[s0].y);
 		const double yaw = std::abs(mrpt::math::wrapToPi(p.phi - slam[s0].yaw));
 		EXPECT_LT(d, 0.3) << "start scan " << s0;

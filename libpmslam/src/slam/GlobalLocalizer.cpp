@@ -18,11 +18,6 @@ TPose2D compose(const TPose2D& a, const TPose2D& b) { return (mrpt::poses::CPose
 /** b⁻¹ ⊕ a: the motion from b to a. */
 TPose2D between(const TPose2D& a, const TPose2D& b) { return (mrpt::poses::CPose2D(a) - mrpt::poses::CPose2D(b)).asTPose(); }
 
-bool near(const TPose2D& a, const TPose2D& b)
-{
-	return std::hypot(a.x - b.x, a.y - b.y) < 0.3 && std::abs(mrpt::math::wrapToPi(a.phi - b.phi)) < 5 * M_PI / 180;
-}
-
 /** The rotation step that moves the scan's far points (90th percentile of range, at least 2 m) by
  * about one cell: the max range would make a single far return set the cost of the whole search. */
 double rotationStep(const std::vector<mrpt::math::TPoint2Df>& points, double resolution)
@@ -42,12 +37,15 @@ GlobalLocalizer::GlobalLocalizer(const mrpt::maps::COccupancyGridMap2D& map,
 	: m_opts(options),
 	  m_scanOpts(scanOptions),
 	  m_matcher(matcher),
-	  m_distance(PerfectMatchMatcher::distanceMapFromGrid(map, matcher.maxDistance, matcher.occupiedThreshold))
+	  m_distance(PerfectMatchMatcher::distanceMapFromGrid(map, matcher.maxDistance, matcher.occupiedThreshold)),
+	  m_rivals(options.rivals)
 {
 	const double r = map.getResolution();
 	m_shift = {map.getXMin() - std::lround(map.getXMin() / r) * r, map.getYMin() - std::lround(map.getYMin() / r) * r};
 	m_pyramid = std::make_unique<LikelihoodPyramid>(
 		LikelihoodPyramid::fromGrid(map, matcher.maxDistance, matcher.occupiedThreshold));
+	if (m_opts.coarseToFine)
+		m_coarse = std::make_unique<LikelihoodPyramid>(BranchAndBoundSearch(*m_pyramid).coarsePyramid());
 }
 
 GlobalLocalizer::State GlobalLocalizer::addScan(const mrpt::obs::CObservation2DRangeScan& scan,
@@ -61,16 +59,12 @@ GlobalLocalizer::State GlobalLocalizer::addScan(const mrpt::obs::CObservation2DR
 	++m_scans;
 	if (points.size() >= 10)
 	{
-		if (m_hyps.empty())
-			searchAnew(points);
-		else
-			follow(points, motion);
-		decide();
+		if (!m_rivals.empty()) m_rivals.follow(m_matcher, m_distance, points, motion, m_shift);
+		if (m_rivals.empty()) searchAnew(points);  // at the start, or every place has been dropped
+		if (m_rivals.decide()) m_state = State::Found;
 	}
-	else
-		for (auto& h : m_hyps) h.pose = compose(h.pose, motion);
 	if (m_state == State::Searching &&
-		(views() >= m_opts.maxViews || (m_hyps.empty() && m_searches >= m_opts.maxSearches)))
+		(views() >= m_opts.maxViews || (m_rivals.empty() && m_searches >= m_opts.maxSearches)))
 		m_state = State::Undecided;
 	return m_state;
 }
@@ -90,7 +84,8 @@ void GlobalLocalizer::searchAnew(const std::vector<mrpt::math::TPoint2Df>& point
 	o.maxPoints = m_opts.searchPoints;
 	o.angularStep = rotationStep(points, m_pyramid->resolution());
 	const auto t0 = std::chrono::steady_clock::now();
-	const auto result = BranchAndBoundSearch(*m_pyramid, o).searchGlobal(points);
+	const BranchAndBoundSearch search(*m_pyramid, o);
+	const auto result = m_coarse ? search.searchGlobalCoarseToFine(points, *m_coarse) : search.searchGlobal(points);
 	m_searchSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	++m_searches;
 	// Carried back to the first scan by the odometry since (no odometry: where the search found it).
@@ -99,61 +94,15 @@ void GlobalLocalizer::searchAnew(const std::vector<mrpt::math::TPoint2Df>& point
 	for (const auto& c : result.candidates)
 	{
 		PerfectMatchMatcher::MatchInfo info;
-		Hypothesis h;
-		h.pose = refine(points, c.pose, info);
-		if (info.goodness < m_opts.minGoodness) continue;
-		if (std::any_of(m_hyps.begin(), m_hyps.end(), [&](const Hypothesis& o) { return near(o.pose, h.pose); }))
-			continue;  // two lattice peaks that PM took to the same pose
-		h.first = compose(h.pose, back);
-		h.lastView = h.pose;
-		h.goodnessSum = h.lastGoodness = info.goodness;
-		h.scans = 1;
-		m_hyps.push_back(h);
+		const TPose2D pose = refine(points, c.pose, info);
+		if (info.goodness >= m_opts.rivals.minGoodness) m_rivals.add(pose, compose(pose, back), info);
 	}
-}
-
-void GlobalLocalizer::follow(const std::vector<mrpt::math::TPoint2Df>& points, const TPose2D& motion)
-{
-	for (auto& h : m_hyps)
-	{
-		PerfectMatchMatcher::MatchInfo info;
-		h.pose = refine(points, compose(h.pose, motion), info);
-		h.lastGoodness = info.goodness;
-	}
-	// A new view for all when the leader (first: sorted by decide()) has moved since its last one.
-	const TPose2D moved = between(m_hyps.front().pose, m_hyps.front().lastView);
-	if (std::hypot(moved.x, moved.y) >= m_opts.viewLinear || std::abs(moved.phi) >= m_opts.viewAngular)
-		for (auto& h : m_hyps)
-		{
-			h.goodnessSum += h.lastGoodness;
-			++h.scans;
-			h.lastView = h.pose;
-		}
-	// A hypothesis whose scans stopped fitting is not where the robot is; nor is the second of two
-	// that have come together.
-	std::vector<Hypothesis> kept;
-	for (const auto& h : m_hyps)
-		if (h.mean() >= m_opts.minGoodness && h.lastGoodness >= m_opts.minGoodness - 0.15 &&
-			std::none_of(kept.begin(), kept.end(), [&](const Hypothesis& k) { return near(k.pose, h.pose); }))
-			kept.push_back(h);
-	m_hyps = std::move(kept);
-	if (m_hyps.empty()) searchAnew(points);
-}
-
-void GlobalLocalizer::decide()
-{
-	std::sort(m_hyps.begin(), m_hyps.end(), [](const Hypothesis& a, const Hypothesis& b) { return a.mean() > b.mean(); });
-	m_runnerUp = m_hyps.size() > 1 ? m_hyps[1].mean() : 0;
-	if (m_hyps.empty()) return;
-	const double views = double(m_hyps[0].scans);
-	if (m_hyps.size() == 1 || m_hyps[0].mean() - m_runnerUp >= m_opts.decideMargin / std::sqrt(views))
-		m_state = State::Found;
 }
 
 std::optional<GlobalLocalizer::Hypothesis> GlobalLocalizer::best() const
 {
-	if (m_hyps.empty()) return std::nullopt;
-	return m_hyps.front();
+	if (m_rivals.empty()) return std::nullopt;
+	return m_rivals.leader();
 }
 
 }  // namespace pmslam

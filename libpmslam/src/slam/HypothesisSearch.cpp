@@ -10,6 +10,13 @@
 
 namespace pmslam
 {
+namespace
+{
+// Goodness below the best within which a re-localisation candidate is a rival: the margin a pose
+// away from a trusted prediction must win by (HypothesisSearch::search).
+constexpr double kRivalsWithin = 0.15;
+}  // namespace
+
 SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost, double sinceAccepted) const
 {
 	SearchWindow w;
@@ -67,12 +74,14 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 	const bool relocalizing = window.linear > m_options.wideSearchLinear + 1e-9 ||
 							  window.angular > m_options.wideSearchAngular + 1e-9;
 	std::vector<std::pair<mrpt::math::TPose2D, double>> refined;	 // every candidate, refined, and its score
+	std::vector<PerfectMatchMatcher::MatchInfo> infos;	// and its match
 	const Hypothesis atPrediction = h;
 	for (const auto& c : starts)
 	{
 		PerfectMatchMatcher::MatchInfo info;
 		const mrpt::math::TPose2D p = matcher.alignPoints(map, hits, c.pose, &info);
 		refined.emplace_back(p, info.goodness);
+		infos.push_back(info);
 		if (info.goodness > bestGoodness)
 		{
 			bestGoodness = info.goodness;
@@ -81,6 +90,12 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 			h.relocalized = true;
 		}
 	}
+	// A stale prediction's re-localisation (a lidar alone after a gap) is where look-alikes fool one
+	// scan: every candidate nearly as good as the best goes to the next scans, which decide.
+	decltype(h.rivals) rivals;
+	if (h.relocalized && relocalizing && window.alwaysSearch)
+		for (std::size_t i = 0; i < refined.size(); ++i)
+			if (refined[i].second >= bestGoodness - kRivalsWithin) rivals.emplace_back(refined[i].first, infos[i]);
 	// In a re-localisation window, a clearly different pose that explains the scan nearly as well
 	// (a look-alike room, a repetitive corridor) leaves the pose undecided: keep searching on the
 	// next scans, from where the robot moves to somewhere that tells them apart.
@@ -90,6 +105,7 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 		// A stale prediction is no fallback: where a lidar alone was before a gap it is not now.
 		h.undecided = window.alwaysSearch;
 	}
+	h.rivals = std::move(rivals);
 	return h;
 }
 

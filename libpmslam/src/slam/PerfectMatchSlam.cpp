@@ -23,6 +23,9 @@ namespace pmslam
 {
 namespace
 {
+// Views after which look-alike rivals still undecided are let go, and the scans searched anew.
+constexpr std::size_t kMaxRivalViews = 20;
+
 // Each part of the front-end gets its own options, taken from MapBuilderOptions.
 MotionModelOptions motionOptions(const MapBuilderOptions& o)
 {
@@ -98,6 +101,8 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_hypotheses.emplace(searchOptions(PM_options));
 	m_degenerate.emplace(DegenerateDirectionsOptions{PM_options.degenerateBelow});
 	m_tracker.emplace(trackerOptions(PM_options));
+	m_rivals.emplace();
+	m_revised.clear();
 	m_smoother.reset();
 	if (PM_options.odometrySmoothing)
 	{
@@ -177,6 +182,46 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	return m_last;
 }
 
+Hypothesis PerfectMatchSlam::searchOrFollowRivals(const ScanPoints& pts, const ScanResult& r, const SearchWindow& window)
+{
+	// Rivals from an earlier scan: each moved as the prediction moved since, matched, and judged.
+	if (!m_rivals->empty())
+	{
+		const auto motion = (mrpt::poses::CPose2D(r.predicted) - mrpt::poses::CPose2D(m_pose)).asTPose();
+		m_rivals->follow(m_matcher, m_grid->distanceMap(), pts.hits, motion, {0, 0}, m_scans - 1);
+		if (!m_rivals->empty())
+		{
+			Hypothesis h;
+			h.pose = m_rivals->leader().pose;
+			h.info = m_rivals->leader().info;
+			h.wideSearch = true;
+			h.relocalized = m_rivals->decide();
+			h.undecided = !h.relocalized;
+			if (h.relocalized)
+			{
+				const auto& path = m_rivals->leader().path;
+				m_revised.insert(m_revised.end(), path.begin(), path.end() - 1);	 // this scan's pose is set as usual
+			}
+			if (h.relocalized || m_rivals->views() >= kMaxRivalViews) m_rivals->clear();
+			return h;
+		}
+	}
+	Hypothesis best = m_hypotheses->search(m_matcher, m_grid->distanceMap(), pts.hits, r.predicted, window);
+	for (const auto& [pose, info] : best.rivals) m_rivals->add(pose, pose, info, m_scans - 1);
+	if (m_rivals->size() > 1)
+	{
+		// Look-alikes of a stale prediction: nothing is decided (nor inserted) until the scans do.
+		m_rivals->decide();
+		best.pose = m_rivals->leader().pose;  // reported (not matched) while undecided
+		best.info = m_rivals->leader().info;
+		best.relocalized = false;
+		best.undecided = true;
+	}
+	else
+		m_rivals->clear();
+	return best;
+}
+
 MotionPrediction PerfectMatchSlam::predict(const mrpt::obs::CObservation2DRangeScan& scan,
 										   const std::optional<mrpt::math::TPose2D>& odometryAtScan)
 {
@@ -195,7 +240,7 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 														 const SearchWindow& window, bool standstillCheck, ScanResult& r)
 {
 	const auto t0 = std::chrono::steady_clock::now();
-	const Hypothesis best = m_hypotheses->search(m_matcher, m_grid->distanceMap(), pts.hits, r.predicted, window);
+	const Hypothesis best = searchOrFollowRivals(pts, r, window);
 	r.matchMs = millisecondsSince(t0);
 	r.info = best.info;
 	r.wideSearch = best.wideSearch;
@@ -212,6 +257,7 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 	});
 	if (verdict != TrackingState::Tracking)
 	{
+		if (r.undecided && !m_rivals->empty()) r.pose = best.pose;	// the leading look-alike, for now
 		r.rejected = true;
 		++m_rejected;
 		r.reanchored = verdict == TrackingState::NewGround;
@@ -260,11 +306,18 @@ void PerfectMatchSlam::insertKeyframe(const mrpt::obs::CObservation2DRangeScan& 
 std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> PerfectMatchSlam::takeSmoothedPoses(bool finish)
 {
 	std::lock_guard<std::mutex> lock(mapMutex());
-	if (!m_smoother) return {};
-	if (finish) m_smoother->finish();
-	auto out = m_smoother->takeFinal();
-	if (m_loops)  // back to the frame the front-end had at each scan
-		for (auto& [i, p] : out) p = m_frames.toScanFrame(i, p);
+	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> out;
+	if (m_smoother)
+	{
+		if (finish) m_smoother->finish();
+		out = m_smoother->takeFinal();
+		if (m_loops)  // back to the frame the front-end had at each scan
+			for (auto& [i, p] : out) p = m_frames.toScanFrame(i, p);
+	}
+	// Scans reported while look-alike rivals were undecided: where the winner had them (after the
+	// smoother's, which had the leader of the moment).
+	out.insert(out.end(), m_revised.begin(), m_revised.end());
+	m_revised.clear();
 	return out;
 }
 

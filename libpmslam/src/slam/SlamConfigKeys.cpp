@@ -39,7 +39,7 @@ std::vector<config::Key<S>> logKeys()
 			"(only the scan's own), events (only odometry readings and rawlog actions) (D40).",
 			[](auto& c) -> auto& { return c.odometrySource; }, toText, odometrySourceFrom),
 		config::number<S>("sliceMinHeight", "m", config::Range{}, Level::Basic,
-						  "3D lidars and depth cameras: points above this height (robot frame) form the 2D scan.. (D41).",
+						  "3D lidars and depth cameras: points above this height (robot frame) form the 2D scan (D41)...",
 						  [](auto& c) -> auto& { return c.log.slice.minHeight; }),
 		config::number<S>("sliceMaxHeight", "m", config::Range{}, Level::Basic, "...up to this height (D41).",
 						  [](auto& c) -> auto& { return c.log.slice.maxHeight; }),

@@ -1,19 +1,13 @@
 /* pmslam — finding the robot on a fixed map without being told where it starts.
  *
  * The first scan is searched over the whole map and every heading (BranchAndBoundSearch): its best
- * few distinct poses, each refined by Perfect Match, are the hypotheses. One that wins clearly
- * (its match explains the scan better than the runner-up's by `decideMargin`) is the start. One
- * that does not (a symmetric corridor, twin rooms) stays with its rivals: each is moved by the
- * odometry to the next scans and matched there, and the scans decide. Only views from a new place
- * count as evidence (the leader moved 0.2 m or turned 10° since the last one): a robot standing
- * still shows the same scan again, which tells nothing new. The mean goodness over those views ranks
- * the hypotheses, and the leader wins once its lead exceeds decideMargin / √views — a lead that
- * holds over more independent views needs to be smaller to be sure, as the noise of a mean shrinks;
- * in a truly symmetric place the lead stays at the noise and nothing is decided. A hypothesis that
- * stops explaining the scans is dropped; when every one is, the current scan is searched anew.
- * After `maxViews` views without a decision it says so: undecided is an answer, a guess is not.
+ * few distinct poses, each refined by Perfect Match, are the hypotheses. One that wins clearly is
+ * the start; one that does not (a symmetric corridor, twin rooms) stays with its rivals until the
+ * scans decide (Rivals.h). When every place has been dropped, the current scan is searched anew.
+ * After `maxViews` views without a decision, or `maxSearches` searches without a place that kept
+ * explaining the scans, it says so: undecided is an answer, a guess is not.
  *
- * Poses are of the robot in the map's frame (metres, radians); firstPose() is the winner's pose at
+ * Poses are of the robot in the map's frame (metres, radians); best()->origin is the winner's pose at
  * the first scan given, whatever scan the winning search started from (carried back there by the
  * odometry), so that a tracker can start from the first scan.
  */
@@ -26,6 +20,7 @@
 #include <pmslam/match/LikelihoodPyramid.h>
 #include <pmslam/match/PerfectMatchMatcher.h>
 #include <pmslam/sensor/ScanPoints.h>
+#include <pmslam/slam/Rivals.h>
 
 #include <cstddef>
 #include <memory>
@@ -41,12 +36,11 @@ struct GlobalLocalizerOptions
 	 * nearly as good?" (BranchAndBoundSearch::Options::minRelativeScore). */
 	double candidateFloor = 0.7;
 	std::size_t searchPoints = 120;	 ///< scan points the whole-map search scores (evenly taken)
-	/** The leader wins when its mean goodness exceeds every rival's by this / √views (about four
-	 * times the scan-to-scan noise of a goodness difference, 0.02). */
-	double decideMargin = 0.08;
-	double viewLinear = 0.2, viewAngular = 10 * M_PI / 180;	 ///< m, rad: a new view
-	/** A hypothesis whose last match, or mean, falls below this is dropped (good matches score 0.8-0.98). */
-	double minGoodness = 0.55;
+	/** The two-stage search (a coarse lattice, its candidates refined at the map's resolution):
+	 * tens of milliseconds instead of about a second, at the risk of a coarse miss; false: the exact
+	 * search of the map's lattice. */
+	bool coarseToFine = true;
+	RivalsOptions rivals;  ///< how the scans decide between the places found
 	std::size_t maxViews = 30;	///< undecided after this many views without a decision
 	/** Not found after this many whole-map searches none of whose places kept explaining the scans. */
 	std::size_t maxSearches = 8;
@@ -61,16 +55,8 @@ class GlobalLocalizer
 		Found,
 		Undecided
 	};
-	struct Hypothesis
-	{
-		mrpt::math::TPose2D pose;  ///< at the latest scan (map frame)
-		mrpt::math::TPose2D first;	///< carried back to the first scan given
-		mrpt::math::TPose2D lastView;  ///< where its last view counted
-		double goodnessSum = 0;
-		std::size_t scans = 0;	///< views counted
-		double lastGoodness = 0;
-		double mean() const { return scans ? goodnessSum / double(scans) : 0; }
-	};
+	/** A place: `pose` at the latest scan, `origin` carried back to the first scan given. */
+	using Hypothesis = Rivals::Rival;
 
 	GlobalLocalizer(const mrpt::maps::COccupancyGridMap2D& map, const PerfectMatchMatcher::TConfigParams& matcher,
 					const ScanPointsOptions& scanOptions, const GlobalLocalizerOptions& options = {});
@@ -83,17 +69,15 @@ class GlobalLocalizer
 	/** The winner (Found), else the best so far; empty before any hypothesis. */
 	std::optional<Hypothesis> best() const;
 	/** The best rival's mean goodness (0 when none): how close the decision was. */
-	double runnerUp() const { return m_runnerUp; }
+	double runnerUp() const { return m_rivals.runnerUp(); }
 	std::size_t scansUsed() const { return m_scans; }
-	std::size_t views() const { return m_hyps.empty() ? 0 : m_hyps.front().scans; }
+	std::size_t views() const { return m_rivals.views(); }
 	std::size_t searches() const { return m_searches; }
-	std::size_t hypotheses() const { return m_hyps.size(); }
+	std::size_t hypotheses() const { return m_rivals.size(); }
 	double searchSeconds() const { return m_searchSeconds; }
 
    private:
 	void searchAnew(const std::vector<mrpt::math::TPoint2Df>& points);
-	void follow(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& motion);
-	void decide();
 	mrpt::math::TPose2D refine(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& start,
 							   PerfectMatchMatcher::MatchInfo& info) const;
 
@@ -102,11 +86,11 @@ class GlobalLocalizer
 	PerfectMatchMatcher m_matcher;
 	DynamicDistanceMap m_distance;
 	mrpt::math::TPoint2D m_shift;  ///< map frame = distance layer's frame + m_shift
-	std::unique_ptr<LikelihoodPyramid> m_pyramid;
-	std::vector<Hypothesis> m_hyps;
+	std::unique_ptr<LikelihoodPyramid> m_pyramid, m_coarse;  // the map's, and its coarse one (coarseToFine)
+	Rivals m_rivals;
 	std::optional<mrpt::math::TPose2D> m_firstOdometry, m_lastOdometry;
 	State m_state = State::Searching;
-	double m_runnerUp = 0, m_searchSeconds = 0;
+	double m_searchSeconds = 0;
 	std::size_t m_scans = 0, m_searches = 0;
 };
 

@@ -58,6 +58,9 @@ struct Hypothesis
 	bool wideSearch = false;  ///< the window was searched
 	bool relocalized = false;  ///< a pose from the search beat the match from the prediction
 	bool undecided = false;	 ///< a stale prediction's search found look-alike poses: nothing decided
+	/** A stale prediction's re-localisation: every refined candidate that explains the scan nearly as
+	 * well as the best (the best among them), for the scans to decide between (Rivals.h). */
+	std::vector<std::pair<mrpt::math::TPose2D, PerfectMatchMatcher::MatchInfo>> rivals;
 };
 
 class HypothesisSearch

@@ -55,6 +55,7 @@
 #include <pmslam/slam/KeyframeStore.h>
 #include <pmslam/slam/MotionModel.h>
 #include <pmslam/slam/OdometrySmoother.h>
+#include <pmslam/slam/Rivals.h>
 #include <pmslam/slam/StandstillCheck.h>
 #include <pmslam/slam/Tracker.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
@@ -248,6 +249,8 @@ class PerfectMatchSlam
 	std::optional<HypothesisSearch> m_hypotheses;
 	std::optional<DegenerateDirections> m_degenerate;
 	std::optional<Tracker> m_tracker;
+	std::optional<Rivals> m_rivals;	// look-alike poses of a lidar alone after a gap, until the scans decide
+	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> m_revised;	 // the winner's poses of undecided scans
 	std::optional<OdometrySmoother> m_smoother;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	bool m_mapEmpty = true;
@@ -263,6 +266,7 @@ class PerfectMatchSlam
 	// The steps of processScan().
 	MotionPrediction predict(const mrpt::obs::CObservation2DRangeScan& scan,
 							 const std::optional<mrpt::math::TPose2D>& odometryAtScan);
+	Hypothesis searchOrFollowRivals(const ScanPoints& pts, const ScanResult& r, const SearchWindow& window);
 	std::optional<TrackingState> matchScan(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPoints& pts,
 										   const MotionPrediction& motion, const SearchWindow& window,
 										   bool standstillCheck, ScanResult& r);
