@@ -1,6 +1,6 @@
 /* pm-global-localization — how often the start is found on a map without a start pose.
  *
- *   pm-global-localization MAP LOG TRAJECTORY [--starts N] [--config INI]
+ *   pm-global-localization MAP LOG TRAJECTORY [--starts N] [--config INI] [--coarse K FLOOR POINTS]
  *
  * MAP is what `pm-slam-app --localize` takes (a pm-slam-app output folder, say), TRAJECTORY the SLAM
  * run's trajectory.txt on it (the reference). From N start scans spread evenly over LOG, each start
@@ -75,11 +75,19 @@ int main(int argc, char** argv)
 	std::vector<std::string> pos;
 	std::size_t starts = 100;
 	std::string ini;
+	pmslam::GlobalLocalizerOptions opts;
 	for (int i = 1; i < argc; ++i)
 	{
 		const std::string a = argv[i];
 		if (a == "--starts" && i + 1 < argc) starts = std::stoul(argv[++i]);
 		else if (a == "--config" && i + 1 < argc) ini = argv[++i];
+		else if (a == "--coarse" && i + 3 < argc)
+		{
+			opts.coarseToFine = true;
+			opts.coarseCandidates = std::stoul(argv[++i]);
+			opts.coarseFloor = std::stod(argv[++i]);
+			opts.coarsePoints = std::stoul(argv[++i]);
+		}
 		else pos.push_back(a);
 	}
 	if (pos.size() != 3)
@@ -98,7 +106,7 @@ int main(int argc, char** argv)
 	for (std::size_t k = 0; k < starts; ++k)
 	{
 		const std::size_t s0 = last * k / starts;
-		pmslam::GlobalLocalizer g(map.grid, cfg.matcher, cfg.mapping.grid.scan);
+		pmslam::GlobalLocalizer g(map.grid, cfg.matcher, cfg.mapping.grid.scan, opts);
 		std::size_t s = s0;
 		while (s < scans.size() && g.addScan(*scans[s].event.scan, scans[s].odometry) ==
 									   pmslam::GlobalLocalizer::State::Searching)

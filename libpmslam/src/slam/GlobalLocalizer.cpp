@@ -29,6 +29,14 @@ double rotationStep(const std::vector<mrpt::math::TPoint2Df>& points, double res
 	std::nth_element(r.begin(), k, r.end());
 	return resolution / std::max(2.0, double(*k));
 }
+/** The two-stage search can miss the true place (its coarse ranking ties easily), so a lone place it
+ * proposes is confirmed by a second view before it is believed. */
+RivalsOptions rivalsFor(const GlobalLocalizerOptions& o)
+{
+	RivalsOptions r = o.rivals;
+	if (o.coarseToFine) r.minViews = std::max<std::size_t>(r.minViews, 2);
+	return r;
+}
 }  // namespace
 
 GlobalLocalizer::GlobalLocalizer(const mrpt::maps::COccupancyGridMap2D& map,
@@ -38,7 +46,7 @@ GlobalLocalizer::GlobalLocalizer(const mrpt::maps::COccupancyGridMap2D& map,
 	  m_scanOpts(scanOptions),
 	  m_matcher(matcher),
 	  m_distance(PerfectMatchMatcher::distanceMapFromGrid(map, matcher.maxDistance, matcher.occupiedThreshold)),
-	  m_rivals(options.rivals)
+	  m_rivals(rivalsFor(options))
 {
 	const double r = map.getResolution();
 	m_shift = {map.getXMin() - std::lround(map.getXMin() / r) * r, map.getYMin() - std::lround(map.getYMin() / r) * r};
@@ -83,6 +91,9 @@ void GlobalLocalizer::searchAnew(const std::vector<mrpt::math::TPoint2Df>& point
 	o.minRelativeScore = m_opts.candidateFloor;
 	o.maxPoints = m_opts.searchPoints;
 	o.angularStep = rotationStep(points, m_pyramid->resolution());
+	o.coarse.candidates = m_opts.coarseCandidates;
+	o.coarse.minRelativeScore = m_opts.coarseFloor;
+	o.coarse.maxPoints = m_opts.coarsePoints;
 	const auto t0 = std::chrono::steady_clock::now();
 	const BranchAndBoundSearch search(*m_pyramid, o);
 	const auto result = m_coarse ? search.searchGlobalCoarseToFine(points, *m_coarse) : search.searchGlobal(points);

@@ -36,10 +36,16 @@ struct GlobalLocalizerOptions
 	 * nearly as good?" (BranchAndBoundSearch::Options::minRelativeScore). */
 	double candidateFloor = 0.7;
 	std::size_t searchPoints = 120;	 ///< scan points the whole-map search scores (evenly taken)
-	/** The two-stage search (a coarse lattice, its candidates refined at the map's resolution):
-	 * tens of milliseconds instead of about a second, at the risk of a coarse miss; false: the exact
-	 * search of the map's lattice. */
-	bool coarseToFine = true;
+	/** The two-stage search (a coarse lattice, its candidates refined at the map's resolution): tens
+	 * of milliseconds instead of about a second, but its coarse stage can miss the true place, and
+	 * then a look-alike wins: on the benchmark logs' maps 2-4 of 100 starts were decided wrongly
+	 * (bench/global.sh), against none with the exact search of the map's lattice (false, the default). */
+	bool coarseToFine = false;
+	/** The coarse stage's candidates refined, the share of its best they must score, and its points:
+	 * a coarse score ties easily, and the true place missed there cannot win later. */
+	std::size_t coarseCandidates = 16;
+	double coarseFloor = 0.7;
+	std::size_t coarsePoints = 64;
 	RivalsOptions rivals;  ///< how the scans decide between the places found
 	std::size_t maxViews = 30;	///< undecided after this many views without a decision
 	/** Not found after this many whole-map searches none of whose places kept explaining the scans. */

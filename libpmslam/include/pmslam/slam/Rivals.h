@@ -37,6 +37,9 @@ struct RivalsOptions
 	double minGoodness = 0.55;
 	double viewLinear = 0.2, viewAngular = 10 * M_PI / 180;	 ///< m, rad: a new view
 	double distinctLinear = 0.3, distinctAngular = 5 * M_PI / 180;	///< closer rivals are one
+	/** Views before anything is decided: 1 trusts a lone rival at once, which is right only when the
+	 * search that proposed the rivals cannot have missed the true pose. */
+	std::size_t minViews = 1;
 };
 
 class Rivals
