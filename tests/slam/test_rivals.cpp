@@ -35,18 +35,23 @@ struct Outcome
 
 // Starts in the south-west corner (which looks like the other three) and drives along the south wall towards
 // the south-east corner and its box, then turns on the spot; a 2 m lidar, odometry exact.
-Outcome drive(const SyntheticWorld& w)
+TPose2D alongTheSouthWall(int k)
+{
+	return k < 200 ? TPose2D(-2.3 + 3.0 * k / 200.0, -2.3, 0)	// along the south wall
+				   : TPose2D(0.7, -2.3, (k - 200) / 60.0);	 // turning, the box in view
+}
+
+Outcome drive(const SyntheticWorld& w, TPose2D (*path)(int) = alongTheSouthWall)
 {
 	mrpt::maps::COccupancyGridMap2D grid(-4, 4, -4, 4, 0.05f);
 	w.rasterise(grid);
 	pmslam::GlobalLocalizerOptions o;
 	pmslam::GlobalLocalizer g(grid, pmslam::PerfectMatchMatcher::TConfigParams(), pmslam::ScanPointsOptions(), o);
-	const TPose2D start(-2.3, -2.3, 0);
+	const TPose2D start = path(0);
 	Outcome out;
 	for (int k = 0; k < 600 && g.state() == GlobalLocalizer::State::Searching; ++k)
 	{
-		const TPose2D truth = k < 200 ? TPose2D(-2.3 + 3.0 * k / 200.0, -2.3, 0)  // along the south wall
-									  : TPose2D(0.7, -2.3, (k - 200) / 60.0);  // turning, the box in view
+		const TPose2D truth = path(k);
 		const auto scan = w.scan(truth, 361, 1.5 * M_PI, 2.0, 0.005, unsigned(k + 1));
 		g.addScan(scan, truth);
 		out.scans = k + 1;
@@ -76,3 +81,4 @@ TEST(Rivals, WithoutItNothingIsDecided)
 	const Outcome o = drive(squareRoom(false));
 	EXPECT_NE(o.state, GlobalLocalizer::State::Found) << "decided at " << o.scans << " scans on a symmetric room";
 }
+
