@@ -101,7 +101,10 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_hypotheses.emplace(searchOptions(PM_options));
 	m_degenerate.emplace(DegenerateDirectionsOptions{PM_options.degenerateBelow});
 	m_tracker.emplace(trackerOptions(PM_options));
-	m_rivals.emplace();
+	RivalsOptions rivals;
+	// A true match scores 0.8-0.98; a lidar alone may be re-localised only where the scans fit that well.
+	rivals.minLeaderGoodness = 0.75;
+	m_rivals.emplace(rivals);
 	m_revised.clear();
 	m_smoother.reset();
 	if (PM_options.odometrySmoothing)
@@ -174,7 +177,9 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			insertKeyframe(scan, pts, motion.time, r);
 	}
 	m_tracker->update(verdict, r.relocalized, r.inserted, motion.time);
-	m_pose = r.pose;
+	// While look-alike rivals are undecided the scan is reported at the leader's pose, but the search
+	// stays centred where the robot was last known: the leader may be the look-alike.
+	m_pose = r.undecided && !m_rivals->empty() ? r.predicted : r.pose;
 	if (m_loops) m_frames.addScan(m_loops->nodeCount());
 	// The smoother works in the first frame, where the poses are continuous across map corrections.
 	if (m_smoother) m_smoother->add(m_scans - 1, m_frames.toFirst(r.pose), r.odometry);

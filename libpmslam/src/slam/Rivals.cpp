@@ -61,7 +61,9 @@ void Rivals::follow(const PerfectMatchMatcher& matcher, const DynamicDistanceMap
 bool Rivals::decide()
 {
 	std::stable_sort(m_rivals.begin(), m_rivals.end(), [](const Rival& a, const Rival& b) { return a.mean() > b.mean(); });
-	if (m_rivals.empty() || m_rivals[0].views < m_options.minViews) return false;
+	if (m_rivals.empty() || m_rivals[0].views < m_options.minViews ||
+		m_rivals[0].mean() < m_options.minLeaderGoodness)
+		return false;
 	return m_rivals.size() == 1 ||
 		   m_rivals[0].mean() - m_rivals[1].mean() >= m_options.decideMargin / std::sqrt(double(m_rivals[0].views));
 }

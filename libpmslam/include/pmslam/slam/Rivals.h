@@ -40,6 +40,9 @@ struct RivalsOptions
 	/** Views before anything is decided: 1 trusts a lone rival at once, which is right only when the
 	 * search that proposed the rivals cannot have missed the true pose. */
 	std::size_t minViews = 1;
+	/** The leader's mean goodness must reach this too (0: any): among rivals that are all wrong, the
+	 * scans would otherwise pick the least wrong. */
+	double minLeaderGoodness = 0;
 };
 
 class Rivals
