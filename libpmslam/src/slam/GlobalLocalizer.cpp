@@ -61,12 +61,15 @@ GlobalLocalizer::State GlobalLocalizer::addScan(const mrpt::obs::CObservation2DR
 {
 	if (m_state != State::Searching) return m_state;
 	const auto points = scanToPoints(scan, m_scanOpts).hits;
-	const TPose2D motion = odometry && m_lastOdometry ? between(*odometry, *m_lastOdometry) : TPose2D(0, 0, 0);
 	if (m_scans == 0) m_firstOdometry = odometry;
 	if (odometry) m_lastOdometry = odometry;
 	++m_scans;
 	if (points.size() >= 10)
 	{
+		// Since the last scan the places were matched at: a scan with too few points moves them too.
+		const TPose2D motion =
+			odometry && m_matchedOdometry ? between(*odometry, *m_matchedOdometry) : TPose2D(0, 0, 0);
+		if (odometry) m_matchedOdometry = odometry;
 		if (!m_rivals.empty()) m_rivals.follow(m_matcher, m_distance, points, motion, m_shift);
 		if (m_rivals.empty()) searchAnew(points);  // at the start, or every place has been dropped
 		if (m_rivals.decide()) m_state = State::Found;

@@ -95,6 +95,7 @@ class GlobalLocalizer
 	std::unique_ptr<LikelihoodPyramid> m_pyramid, m_coarse;  // the map's, and its coarse one (coarseToFine)
 	Rivals m_rivals;
 	std::optional<mrpt::math::TPose2D> m_firstOdometry, m_lastOdometry;
+	std::optional<mrpt::math::TPose2D> m_matchedOdometry;  ///< at the last scan the places were matched at
 	State m_state = State::Searching;
 	double m_searchSeconds = 0;
 	std::size_t m_scans = 0, m_searches = 0;
