@@ -20,6 +20,7 @@ constexpr double kRivalsWithin = 0.15;
 SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost, double sinceAccepted) const
 {
 	SearchWindow w;
+	w.stoppedAt = motion.extrapolated ? motion.previous : motion.pose;
 	w.linear = m_options.wideSearchLinear;
 	w.angular = m_options.wideSearchAngular;
 	if (lost)
@@ -91,11 +92,17 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 		}
 	}
 	// A stale prediction's re-localisation (a lidar alone after a gap) is where look-alikes fool one
-	// scan: every candidate nearly as good as the best goes to the next scans, which decide.
+	// scan: every candidate nearly as good as the best, the prediction's own match among them, goes
+	// to the next scans, which decide; the motion prior weighs in from the start.
 	decltype(h.rivals) rivals;
-	if (h.relocalized && relocalizing && window.alwaysSearch)
+	if (relocalizing && window.alwaysSearch)
+	{
+		refined.emplace_back(atPrediction.pose, atPrediction.info.goodness);
+		infos.push_back(atPrediction.info);
 		for (std::size_t i = 0; i < refined.size(); ++i)
-			if (refined[i].second >= bestGoodness - kRivalsWithin) rivals.emplace_back(refined[i].first, infos[i]);
+			if (refined[i].second >= bestGoodness - kRivalsWithin)
+				rivals.push_back({refined[i].first, infos[i], prior(refined[i].first, predicted, window)});
+	}
 	// In a re-localisation window, a clearly different pose that explains the scan nearly as well
 	// (a look-alike room, a repetitive corridor) leaves the pose undecided: keep searching on the
 	// next scans, from where the robot moves to somewhere that tells them apart.
@@ -107,6 +114,22 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 	}
 	h.rivals = std::move(rivals);
 	return h;
+}
+
+double HypothesisSearch::prior(const mrpt::math::TPose2D& pose, const mrpt::math::TPose2D& predicted,
+							   const SearchWindow& window)
+{
+	// The nearest point of the stretch from stoppedAt to the prediction (a robot that stopped
+	// somewhere on the way, or drove on), with the heading it had there.
+	const mrpt::math::TPose2D& a = window.stoppedAt;
+	const double ex = predicted.x - a.x, ey = predicted.y - a.y, len2 = ex * ex + ey * ey;
+	const double f = len2 > 1e-12 ? std::clamp(((pose.x - a.x) * ex + (pose.y - a.y) * ey) / len2, 0.0, 1.0) : 1.0;
+	const double nx = a.x + f * ex, ny = a.y + f * ey;
+	const double nphi = a.phi + f * mrpt::math::wrapToPi(predicted.phi - a.phi);
+	const double sl = std::max(window.linear, 1e-3) / 2, sa = std::max(window.angular, 1e-3) / 2;
+	const double dl = std::hypot(pose.x - nx, pose.y - ny) / sl;
+	const double da = mrpt::math::wrapToPi(pose.phi - nphi) / sa;
+	return std::exp(-0.5 * (dl * dl + da * da));
 }
 
 bool HypothesisSearch::lookAlike(const std::vector<std::pair<mrpt::math::TPose2D, double>>& refined,

@@ -16,6 +16,10 @@ constexpr double kMaxSpeed = 3.0;  // m/s
 // farther apart than kMaxOdometryGap a pause; a scan this far beyond the newest reading is
 // extrapolated no further than kMaxOdometryGap.
 constexpr double kMinOdometryGap = 0.01, kMaxOdometryGap = 0.5;  // s
+// A lidar alone: the velocity is measured over the matches of the last kVelocityWindow s (long
+// enough to average the matches' jitter, short enough to follow a turn), once they span at least
+// kMinVelocitySpan s; it is extrapolated at most kMaxExtrapolation s past the last match.
+constexpr double kVelocityWindow = 0.5, kMinVelocitySpan = 0.1, kMaxExtrapolation = 10.0;  // s
 }
 
 void MotionModel::addReading(const mrpt::math::TPose2D& odometry, double timestamp)
@@ -74,7 +78,7 @@ MotionPrediction MotionModel::predict(const mrpt::Clock::time_point& stamp,
 	if (m_options.odometryToScanTime && copied && stamp != INVALID_TIMESTAMP)
 		if (const auto o = odometryAtTime(mrpt::Clock::toDouble(stamp) - m_options.scanLatency))
 			m.odometryAtScanTime = o;
-	m.pose = estimate;
+	m.pose = m.previous = estimate;
 	m.time = stamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(stamp) : std::nan("");
 	m.sincePrevious = m.time - m_lastScanTime;	// NaN when unknown
 	if (m.odometry && m_odometryAtLastScan)
@@ -91,6 +95,12 @@ MotionPrediction MotionModel::predict(const mrpt::Clock::time_point& stamp,
 		else
 			m.glitch = true;
 	}
+	if (!m.odometry && std::isfinite(m.sincePrevious))
+		if (const auto p = extrapolate(estimate, m.sincePrevious))
+		{
+			m.pose = *p;
+			m.extrapolated = true;
+		}
 	if (m.odometry) m_odometryAtLastScan = m.odometry;
 	// Where the prediction cannot be trusted, the match searches a wider window: after a time gap
 	// or an odometry jump. No odometry at all (a lidar alone, live): across a gap the robot went
@@ -101,6 +111,41 @@ MotionPrediction MotionModel::predict(const mrpt::Clock::time_point& stamp,
 	m.stale = m.gap && !m.odometry && std::isfinite(m.sincePrevious);
 	if (std::isfinite(m.time)) m_lastScanTime = m.time;
 	return m;
+}
+
+void MotionModel::matched(const mrpt::math::TPose2D& pose, double time)
+{
+	if (!std::isfinite(time)) return;
+	if (!m_matches.empty() && time <= m_matches.back().first) m_matches.clear();	// a log stepping back
+	m_matches.emplace_back(time, pose);
+	while (m_matches.size() > 2 && time - m_matches[1].first >= kVelocityWindow) m_matches.pop_front();
+}
+
+void MotionModel::correct(const mrpt::poses::CPose2D& T)
+{
+	for (auto& [t, p] : m_matches) p = (T + mrpt::poses::CPose2D(p)).asTPose();
+}
+
+std::optional<mrpt::math::TPose2D> MotionModel::velocity() const
+{
+	if (m_matches.size() < 2) return std::nullopt;
+	const auto& [ta, pa] = m_matches.front();
+	const auto& [tb, pb] = m_matches.back();
+	// Matches far apart (a gap between them) say nothing of the velocity at either.
+	if (tb - ta < kMinVelocitySpan || tb - ta > 2 * kVelocityWindow) return std::nullopt;
+	const mrpt::poses::CPose2D d = mrpt::poses::CPose2D(pb) - mrpt::poses::CPose2D(pa);
+	return mrpt::math::TPose2D(d.x() / (tb - ta), d.y() / (tb - ta), d.phi() / (tb - ta));
+}
+
+std::optional<mrpt::math::TPose2D> MotionModel::extrapolate(const mrpt::math::TPose2D& estimate, double dt) const
+{
+	const auto v = velocity();
+	if (!v || !(dt > 0)) return std::nullopt;
+	const double sinceMatch = m_lastScanTime - m_matches.back().first;	// at the previous scan
+	const double t = std::clamp(kMaxExtrapolation - sinceMatch, 0.0, dt);
+	if (t <= 0) return std::nullopt;
+	const mrpt::poses::CPose2D step(v->x * t, v->y * t, v->phi * t);
+	return (mrpt::poses::CPose2D(estimate) + step).asTPose();
 }
 
 }  // namespace pmslam

@@ -104,7 +104,10 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	RivalsOptions rivals;
 	// A true match scores 0.8-0.98; a lidar alone may be re-localised only where the scans fit that well.
 	rivals.minLeaderGoodness = 0.75;
+	// Decided only once the robot has moved: a view from a new place, and its motion, must agree.
+	rivals.minViews = 2;
 	m_rivals.emplace(rivals);
+	m_scanMotion.emplace(PM_options.grid.resolution, PM_options.grid.maxDistance);
 	m_revised.clear();
 	m_smoother.reset();
 	if (PM_options.odometrySmoothing)
@@ -156,9 +159,8 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	r.odometry = motion.odometryAtScanTime;
 	const SearchWindow window = m_hypotheses->window(motion, m_tracker->lost(), m_tracker->sinceAccepted(motion.time));
 
-	// Match once odometry says the robot moved past the gate (without any odometry the prediction
-	// never moves, so every scan is matched), or once its scans say it moves while odometry says
-	// it stands still.
+	// Match once odometry says the robot moved past the gate (without any odometry every scan is
+	// matched), or once its scans say it moves while odometry says it stands still.
 	const bool odometryMoved = !motion.odometry || m_gate->moved(r.predicted);
 	const bool standstillCheck = !odometryMoved && !m_mapEmpty && m_standstill->scansSayMoved(scan);
 	const bool moved = odometryMoved || standstillCheck;
@@ -177,6 +179,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 			insertKeyframe(scan, pts, motion.time, r);
 	}
 	m_tracker->update(verdict, r.relocalized, r.inserted, motion.time);
+	if (r.matched) m_motion->matched(r.pose, motion.time);
 	// While look-alike rivals are undecided the scan is reported at the leader's pose, but the search
 	// stays centred where the robot was last known: the leader may be the look-alike.
 	m_pose = r.undecided && !m_rivals->empty() ? r.predicted : r.pose;
@@ -189,10 +192,12 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 
 Hypothesis PerfectMatchSlam::searchOrFollowRivals(const ScanPoints& pts, const ScanResult& r, const SearchWindow& window)
 {
-	// Rivals from an earlier scan: each moved as the prediction moved since, matched, and judged.
+	// Rivals from an earlier scan: each moved as the scans say the robot moved since (the
+	// prediction's motion where they cannot tell), matched, and judged.
 	if (!m_rivals->empty())
 	{
-		const auto motion = (mrpt::poses::CPose2D(r.predicted) - mrpt::poses::CPose2D(m_pose)).asTPose();
+		const auto guess = (mrpt::poses::CPose2D(r.predicted) - mrpt::poses::CPose2D(m_pose)).asTPose();
+		const auto motion = m_scanMotion->motion(m_matcher, pts.hits, guess).value_or(guess);
 		m_rivals->follow(m_matcher, m_grid->distanceMap(), pts.hits, motion, {0, 0}, m_scans - 1);
 		if (!m_rivals->empty())
 		{
@@ -212,18 +217,18 @@ Hypothesis PerfectMatchSlam::searchOrFollowRivals(const ScanPoints& pts, const S
 		}
 	}
 	Hypothesis best = m_hypotheses->search(m_matcher, m_grid->distanceMap(), pts.hits, r.predicted, window);
-	for (const auto& [pose, info] : best.rivals) m_rivals->add(pose, pose, info, m_scans - 1);
-	if (m_rivals->size() > 1)
+	for (const auto& c : best.rivals) m_rivals->add(c.pose, c.pose, c.info, m_scans - 1, c.prior);
+	if (!m_rivals->empty())
 	{
-		// Look-alikes of a stale prediction: nothing is decided (nor inserted) until the scans do.
+		// A stale prediction's candidates, look-alikes or a lone one: nothing is decided (nor
+		// inserted) until the scans from a new place agree.
+		m_scanMotion->keep(pts.hits);
 		m_rivals->decide();
 		best.pose = m_rivals->leader().pose;  // reported (not matched) while undecided
 		best.info = m_rivals->leader().info;
 		best.relocalized = false;
 		best.undecided = true;
 	}
-	else
-		m_rivals->clear();
 	return best;
 }
 
@@ -334,6 +339,7 @@ void PerfectMatchSlam::applyMapCorrection(LoopClosure::Update& u, ScanResult& r)
 	move(r.pose);
 	move(r.predicted);
 	move(m_pose);
+	m_motion->correct(T);
 	m_gate->correct(T);
 	m_frames.correct(T);
 	m_grid->replaceBlocks(*u.patch, *u.blocks);

@@ -14,7 +14,8 @@
  * time of a stale prediction. A window wider than the wide basin is a
  * re-localisation, and holds look-alike places: when a clearly different pose
  * explains the scan nearly as well as the best (relocalizeAmbiguity), nothing is
- * decided and the next scans search again.
+ * decided and the next scans search again. A stale prediction's candidates go to
+ * the scans instead (Rivals.h), each with its motion prior (prior()).
  */
 #pragma once
 
@@ -48,6 +49,18 @@ struct SearchWindow
 	/** The prediction is stale: search even when the match there looks good (it may be a look-alike
 	 * a few metres back), and let the best explanation of the scan win. */
 	bool alwaysSearch = false;
+	/** Where the robot would be had it stopped: the motion prior is centred on the stretch from here
+	 * to the prediction (the same pose unless the prediction was extrapolated without odometry). */
+	mrpt::math::TPose2D stoppedAt;
+};
+
+/** A refined candidate pose of a re-localisation, its match, and how plausible the motion model finds
+ * it (HypothesisSearch::prior). */
+struct Candidate
+{
+	mrpt::math::TPose2D pose;
+	PerfectMatchMatcher::MatchInfo info;
+	double prior = 1;
 };
 
 /** The pose chosen for a scan, and how it was found. */
@@ -58,9 +71,10 @@ struct Hypothesis
 	bool wideSearch = false;  ///< the window was searched
 	bool relocalized = false;  ///< a pose from the search beat the match from the prediction
 	bool undecided = false;	 ///< a stale prediction's search found look-alike poses: nothing decided
-	/** A stale prediction's re-localisation: every refined candidate that explains the scan nearly as
-	 * well as the best (the best among them), for the scans to decide between (Rivals.h). */
-	std::vector<std::pair<mrpt::math::TPose2D, PerfectMatchMatcher::MatchInfo>> rivals;
+	/** A stale prediction's re-localisation: every refined candidate, the prediction's own match
+	 * among them, that explains the scan nearly as well as the best, for the scans and the motion
+	 * prior to decide between (Rivals.h). */
+	std::vector<Candidate> rivals;
 };
 
 class HypothesisSearch
@@ -83,6 +97,9 @@ class HypothesisSearch
 	/** A refined candidate clearly away from `best` scores within relocalizeAmbiguity of `bestGoodness`. */
 	bool lookAlike(const std::vector<std::pair<mrpt::math::TPose2D, double>>& refined, const mrpt::math::TPose2D& best,
 				   double bestGoodness) const;
+	/** The motion prior of `pose`: exp(-½ m²), m its distance from the stretch between
+	 * window.stoppedAt and `predicted` in units of σ, the window being 2σ. */
+	static double prior(const mrpt::math::TPose2D& pose, const mrpt::math::TPose2D& predicted, const SearchWindow& window);
 };
 
 }  // namespace pmslam

@@ -11,6 +11,12 @@
  * - a jump: a long odometry step between two scans;
  * - a stale prediction: a gap without any odometry (a lidar alone), across which
  *   the robot went anywhere it could drive.
+ * Without odometry (a lidar alone) the motion is the robot's own recent velocity,
+ * measured by its accepted matches (matched()): the prediction is the previous
+ * estimate moved at that velocity, for at most kMaxExtrapolation s since the last
+ * match (a robot keeps going; it does not keep going for ever). Across a gap that
+ * is where a robot that drove on would be; the search window around it also holds
+ * where one that stopped would be.
  * For the reported trajectory's smoother it moves a copied reading to the scan's
  * time (odometryToScanTime); the prediction keeps the reading as it is.
  *
@@ -26,6 +32,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <deque>
 #include <optional>
 #include <utility>
 
@@ -44,7 +51,7 @@ struct MotionModelOptions
 /** A scan's predicted pose and what is known of the motion since the previous scan. */
 struct MotionPrediction
 {
-	mrpt::math::TPose2D pose;  ///< the previous estimate moved by the odometry increment (map frame)
+	mrpt::math::TPose2D pose;  ///< the previous estimate moved by the odometry increment, or velocity (map frame)
 	std::optional<mrpt::math::TPose2D> odometry;  ///< the reading the prediction used (none: no odometry)
 	std::optional<mrpt::math::TPose2D> odometryAtScanTime;	///< the same moved to the scan's time, for the smoother
 	double time = std::nan("");	 ///< the scan's timestamp (s; NaN: unknown)
@@ -53,7 +60,10 @@ struct MotionPrediction
 	bool glitch = false;  ///< the odometry step was implausible and is ignored
 	bool gap = false;  ///< more than relocalizeAfterGap since the previous scan
 	bool jump = false;	///< odometry stepped more than relocalizeAfterJump
-	bool stale = false;	 ///< a gap without any odometry: the prediction is where the robot was
+	bool stale = false;	 ///< a gap without any odometry: the robot may have driven on, stopped, or turned
+	bool extrapolated = false;	///< no odometry: moved at the velocity of the recent matches
+	/** The previous estimate, unmoved: where an extrapolated robot would be had it stopped. */
+	mrpt::math::TPose2D previous;
 };
 
 class MotionModel
@@ -72,6 +82,11 @@ class MotionModel
 	MotionPrediction predict(const mrpt::Clock::time_point& stamp,
 							 const std::optional<mrpt::math::TPose2D>& odometryAtScan,
 							 const mrpt::math::TPose2D& estimate);
+	/** An accepted match at `pose` (map frame) of the scan stamped `time` (s): the velocity a lidar
+	 * alone is predicted with. */
+	void matched(const mrpt::math::TPose2D& pose, double time);
+	/** The map frame moved by `T` (a loop closure's correction): so do the recent matches. */
+	void correct(const mrpt::poses::CPose2D& T);
 
    private:
 	MotionModelOptions m_options;
@@ -81,6 +96,14 @@ class MotionModel
 	std::size_t m_timedReadings = 0, m_burstReadings = 0;
 	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
 	double m_lastScanTime = std::nan("");
+	// A lidar alone: the accepted matches of the last kVelocityWindow s (time, pose), oldest first,
+	// and the time of the newest.
+	std::deque<std::pair<double, mrpt::math::TPose2D>> m_matches;
+	/** The robot-frame motion per second (vx, vy, ω) over the recent matches (none: unknown). */
+	std::optional<mrpt::math::TPose2D> velocity() const;
+	/** `estimate` moved at the recent matches' velocity for the part of the `dt` s since the
+	 * previous scan that lies within kMaxExtrapolation of the last match. */
+	std::optional<mrpt::math::TPose2D> extrapolate(const mrpt::math::TPose2D& estimate, double dt) const;
 	/** Odometry extrapolated to time `t` from the last two timed readings (none for a bursty stream). */
 	std::optional<mrpt::math::TPose2D> odometryAtTime(double t) const;
 };

@@ -56,6 +56,7 @@
 #include <pmslam/slam/MotionModel.h>
 #include <pmslam/slam/OdometrySmoother.h>
 #include <pmslam/slam/Rivals.h>
+#include <pmslam/slam/ScanToScan.h>
 #include <pmslam/slam/StandstillCheck.h>
 #include <pmslam/slam/Tracker.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
@@ -249,6 +250,7 @@ class PerfectMatchSlam
 	std::optional<HypothesisSearch> m_hypotheses;
 	std::optional<DegenerateDirections> m_degenerate;
 	std::optional<Tracker> m_tracker;
+	std::optional<ScanToScan> m_scanMotion;	// the rivals' motion: the scans' own odometry
 	std::optional<Rivals> m_rivals;	// look-alike poses of a lidar alone after a gap, until the scans decide
 	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> m_revised;	 // the winner's poses of undecided scans
 	std::optional<OdometrySmoother> m_smoother;

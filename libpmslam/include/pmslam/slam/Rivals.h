@@ -11,6 +11,12 @@
  * the only one left. In a truly symmetric place the lead stays at the noise and nothing is decided.
  * A rival whose matches stop explaining the scans is dropped.
  *
+ * The robot's motion is evidence too (decisions.md D45): each rival is matched with the motion it was
+ * moved by as a prior, so it does not slide where the scan leaves a direction open; a view counts
+ * for less when the rival's own motion since its last view strays from the robot's (a look-alike the
+ * map keeps pulling back to one spot while the robot drives on); and a caller's motion prior on
+ * where a rival may be counts as one more view.
+ *
  * Used by GlobalLocalizer (the start on a fixed map) and by PerfectMatchSlam (a lidar alone after a
  * gap). Poses are of the robot in the map frame (m, rad); `origin` is the caller's own (where the
  * rival puts some earlier scan), carried along unchanged.
@@ -19,6 +25,7 @@
 
 #include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
+#include <mrpt/poses/CPose2D.h>
 #include <pmslam/map/DynamicDistanceMap.h>
 #include <pmslam/match/PerfectMatchMatcher.h>
 
@@ -40,9 +47,14 @@ struct RivalsOptions
 	/** Views before anything is decided: 1 trusts a lone rival at once, which is right only when the
 	 * search that proposed the rivals cannot have missed the true pose. */
 	std::size_t minViews = 1;
-	/** The leader's mean goodness must reach this too (0: any): among rivals that are all wrong, the
-	 * scans would otherwise pick the least wrong. */
+	/** The leader's mean inlier goodness must reach this too (0: any): among rivals that are all wrong,
+	 * the scans would otherwise pick the least wrong. Inlier goodness, because a right pose at the
+	 * edge of the map has much of its scan on new ground. */
 	double minLeaderGoodness = 0;
+	/** How far a rival's own motion between two views may stray from the robot's before its view counts
+	 * for less: σ = motionNoiseLinear + motionNoiseShare × the distance moved (m), and
+	 * motionNoiseAngular + motionNoiseShare × the turn (rad); motionNoiseShare 0: not weighed. */
+	double motionNoiseLinear = 0.05, motionNoiseAngular = 2 * M_PI / 180, motionNoiseShare = 0.2;
 };
 
 class Rivals
@@ -57,16 +69,25 @@ class Rivals
 		/** Its pose at each scan since it was added, with the caller's tag of that scan (so that the
 		 * winner's path can replace what was reported while nothing was decided). */
 		std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> path;
-		double goodnessSum = 0;
+		double goodnessSum = 0, inlierGoodnessSum = 0;
 		std::size_t views = 0;
+		/** How plausible the motion model found it when it was added (1: no motion prior). */
+		double prior = 1;
 		double mean() const { return views ? goodnessSum / double(views) : 0; }
+		/** The mean of the views' inlier goodness: how well the scans agree where they overlap the map. */
+		double inlierMean() const { return views ? inlierGoodnessSum / double(views) : 0; }
+		/** What ranks it: the mean goodness, less the motion prior's doubt counted as one view of
+		 * the views + 1 (so the prior decides between poses the scans cannot yet tell apart, and the
+		 * scans outweigh it as their views add up). */
+		double score() const { return mean() - (1 - prior) / double(views + 1); }
 	};
 
 	explicit Rivals(const RivalsOptions& options = {}) : m_options(options) {}
 
-	/** A rival matched at `pose` (its first view), unless one is there already. */
+	/** A rival matched at `pose` (its first view), unless one is there already; `prior`: how
+	 * plausible the motion model finds it, in (0, 1]. */
 	void add(const mrpt::math::TPose2D& pose, const mrpt::math::TPose2D& origin, const PerfectMatchMatcher::MatchInfo& info,
-			 std::size_t tag = 0);
+			 std::size_t tag = 0, double prior = 1);
 	/** The next scan (`points`, robot frame): each rival moved by `motion` (robot frame) and matched on
 	 * `map`, whose frame is the map frame less `shift`; then the weak ones dropped and ranked. */
 	void follow(const PerfectMatchMatcher& matcher, const DynamicDistanceMap& map,
@@ -84,8 +105,11 @@ class Rivals
 
    private:
 	bool distinct(const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b) const;
+	/** In (0, 1]: how well `r`'s motion since its last view agrees with the robot's (m_sinceView). */
+	double motionAgreement(const Rival& r) const;
 	RivalsOptions m_options;
 	std::vector<Rival> m_rivals;  ///< leader first after decide()
+	mrpt::poses::CPose2D m_sinceView;	///< the robot's motion since the last view (robot frame)
 };
 
 }  // namespace pmslam
