@@ -42,6 +42,8 @@ faults=(
   "spurious-b|--fault spurious --fraction 0.8 --beams 20|80 % of scans with a large blob"
   "kidnap-a|--fault kidnap --count 2 --metres 1|carried 1 m twice, odometry unaware"
   "kidnap-b|--fault kidnap --count 2 --metres 3|carried 3 m twice, odometry unaware"
+  "stall-a|--fault stall --count 8 --scans 8 --turn-deg 40|8 odometry stalls of 8 scans during turns of 40 deg+, then a catch-up"
+  "stall-b|--fault stall --count 8 --scans 16 --turn-deg 60|8 stalls of 16 scans during turns of 60 deg+"
 )
 if [ -n "${FAULTS:-}" ]; then
   keep=()

@@ -11,16 +11,20 @@
  *   spurious  in --fraction F of the scans, a person-sized blob: --beams N neighbouring beams
  *             return 0.5–3 m
  *   kidnap    the robot is carried --metres M: its odometry stands still while the scans move
+ *   stall     during a turn of at least --turn-deg D (40) over --scans N scans (8), the odometry reading
+ *             stands still for those N scans, then catches up with the whole turn in one step
  * FLASER/RLASER (laser and odometry poses) and ODOM lines are rewritten; other lines pass unchanged.
  * IN may be gz- or bzip2-compressed (.clf.gz, .clf.bz2), as pm-slam-app reads it; OUT is plain text. A
  * compressed IN damaged part way is used up to the damage, with a warning.
  * The places chosen are written to stderr, one line each ("fault KIND at t=… (scan #…)").
  * Exit status: 0 done, 2 bad arguments or unreadable input.
  */
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/io/TextLineReader.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -86,8 +90,8 @@ struct Fault
 	std::string kind, in, out;
 	int count = 1;
 	unsigned seed = 1;
-	double headLo = 18, headHi = 30, lateral = 0.3, seconds = 20, fraction = 0.3, metres = 3;
-	int scansOut = 50, beams = 8;
+	double headLo = 18, headHi = 30, lateral = 0.3, seconds = 20, fraction = 0.3, metres = 3, turnDeg = 40;
+	int scansOut = -1, beams = 8;  // scansOut: 50 for a dropout, 8 for a stall
 };
 
 Fault parseArgs(int argc, char** argv)
@@ -95,7 +99,7 @@ Fault parseArgs(int argc, char** argv)
 	Fault f;
 	std::vector<std::string> pos;
 	const auto words = pmslam_app::splitOptionValues(
-		argc, argv, {"--fault", "--count", "--seed", "--heading-deg", "--lateral", "--scans", "--seconds", "--fraction", "--beams", "--metres"});
+		argc, argv, {"--fault", "--count", "--seed", "--heading-deg", "--lateral", "--scans", "--seconds", "--fraction", "--beams", "--metres", "--turn-deg"});
 	for (std::size_t i = 0; i < words.size(); ++i)
 	{
 		const std::string& a = words[i];
@@ -119,11 +123,12 @@ Fault parseArgs(int argc, char** argv)
 		else if (a == "--fraction") f.fraction = number(a, val());
 		else if (a == "--beams") f.beams = int(number(a, val()));
 		else if (a == "--metres") f.metres = number(a, val());
+		else if (a == "--turn-deg") f.turnDeg = number(a, val());
 		else if (a == "-h" || a == "--help")
 		{
-			std::cout << "usage: pm-fault-inject --fault slip|dropout|gap|spurious|kidnap [--count N] [--seed S]\n"
+			std::cout << "usage: pm-fault-inject --fault slip|dropout|gap|spurious|kidnap|stall [--count N] [--seed S]\n"
 						 "  [--heading-deg LO:HI] [--lateral M] [--scans N] [--seconds S] [--fraction F] [--beams N]\n"
-						 "  [--metres M] IN.clf OUT.clf   (see the comment at the top of apps/pm-fault-inject/main.cpp;\n"
+						 "  [--metres M] [--turn-deg D] IN.clf OUT.clf   (see the comment at the top of apps/pm-fault-inject/main.cpp;\n"
 						 "  a value may also follow its option after '=': --count=3)\n";
 			std::exit(0);
 		}
@@ -133,9 +138,11 @@ Fault parseArgs(int argc, char** argv)
 	if (pos.size() != 2) fail("expected IN.clf OUT.clf (see --help)");
 	f.in = pos[0];
 	f.out = pos[1];
-	const std::set<std::string> kinds{"slip", "dropout", "gap", "spurious", "kidnap"};
-	if (!kinds.count(f.kind)) fail("--fault '" + f.kind + "': expected slip, dropout, gap, spurious or kidnap");
+	const std::set<std::string> kinds{"slip", "dropout", "gap", "spurious", "kidnap", "stall"};
+	if (!kinds.count(f.kind)) fail("--fault '" + f.kind + "': expected slip, dropout, gap, spurious, kidnap or stall");
 	if (f.count < 1) fail("--count: expected >= 1");
+	if (f.scansOut < 0) f.scansOut = f.kind == "stall" ? 8 : 50;
+	if (f.scansOut < 1) fail("--scans: expected >= 1");
 	return f;
 }
 
@@ -196,6 +203,36 @@ std::vector<Line> readLines(const std::string& in, std::vector<std::size_t>& sca
 	return lines;
 }
 
+/** A stall's places: from each drawn scan on, the first (within its slice, wrapping round) from which the
+ * odometry turns at least --turn-deg over the next --scans scans. A slice without such a turn has none. */
+std::vector<std::size_t> duringTurns(const std::vector<std::size_t>& drawn, const std::vector<Line>& lines,
+									 const Fault& f, double lo, double width)
+{
+	std::vector<double> heading;  // raw odometry heading of each scan
+	for (const auto& l : lines)
+		if (l.scan) heading.push_back(poseAt(l, odomIndex(l)).phi());
+	const auto turns = [&](std::size_t s) {
+		return s + f.scansOut < heading.size() &&
+			   std::abs(mrpt::math::wrapToPi(heading[s + f.scansOut] - heading[s])) >= f.turnDeg * M_PI / 180;
+	};
+	std::vector<std::size_t> at;
+	for (std::size_t k = 0; k < drawn.size(); ++k)
+	{
+		const std::size_t b = std::size_t(lo + width * k), e = std::size_t(lo + width * (k + 1));
+		for (std::size_t i = 0; i < e - b; ++i)
+		{
+			const std::size_t s = b + (drawn[k] - b + i) % (e - b);
+			if (turns(s))
+			{
+				at.push_back(s);
+				break;
+			}
+		}
+	}
+	std::sort(at.begin(), at.end());
+	return at;
+}
+
 /** Rewrites the lines with the faults: one place per equal slice of the middle 90 % of the scans,
  * drawn inside its slice (spurious: every scan, with probability --fraction). */
 void inject(const Fault& f, std::vector<Line>& lines, std::size_t scanCount)
@@ -206,6 +243,7 @@ void inject(const Fault& f, std::vector<Line>& lines, std::size_t scanCount)
 	const double lo = 0.05 * scanCount, width = 0.9 * scanCount / f.count;
 	if (f.kind != "spurious")
 		for (int k = 0; k < f.count; ++k) at.push_back(std::size_t(lo + width * (k + 0.25 + 0.5 * uniform())));
+	if (f.kind == "stall") at = duringTurns(at, lines, f, lo, width);
 
 	mrpt::poses::CPose2D C;	 // correction applied to every odometry pose from here on
 	std::size_t next = 0;
@@ -216,7 +254,7 @@ void inject(const Fault& f, std::vector<Line>& lines, std::size_t scanCount)
 	mrpt::poses::CPose2D lastRaw;
 	bool haveLast = false;
 	double gapUntil = -1;
-	int dropLeft = 0;
+	int dropLeft = 0, stallLeft = 0;
 	for (auto& l : lines)
 	{
 		if (!(l.scan || l.odom)) continue;
@@ -253,7 +291,13 @@ void inject(const Fault& f, std::vector<Line>& lines, std::size_t scanCount)
 					frozenAt = raw;
 					carried = 0;
 				}
+				else if (f.kind == "stall")
+				{
+					stallLeft = f.scansOut + 2;	 // this scan's reading stands still for the next --scans
+					frozenAt = raw;
+				}
 			}
+			if (stallLeft > 0) --stallLeft;
 			if (dropLeft > 0)
 			{
 				--dropLeft;
@@ -275,7 +319,8 @@ void inject(const Fault& f, std::vector<Line>& lines, std::size_t scanCount)
 			frozen = false;
 			C = C + frozenAt + inverse(raw);	// odometry resumes from where it stood
 		}
-		const mrpt::poses::CPose2D odo = frozen ? frozenAt : raw;
+		// A stall's reading catches up (no correction) at the first scan after it.
+		const mrpt::poses::CPose2D odo = frozen || stallLeft > 0 ? frozenAt : raw;
 		if (l.scan)
 		{
 			const mrpt::poses::CPose2D laser = poseAt(l, 2 + l.n);

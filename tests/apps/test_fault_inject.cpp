@@ -281,6 +281,34 @@ TEST_F(FaultInject, KidnapFreezesTheOdometryWhileTheScansMoveThenResumes)
 	EXPECT_FALSE(samePose(scans[e + 1].odo, scans[s].odo, 1e-6));
 }
 
+TEST_F(FaultInject, StallFreezesTheReadingDuringTurnsThenCatchesUpWithNoCorrection)
+{
+	// The room path turns at most about 3 degrees over 8 scans: a stall during a turn of 2 degrees or more.
+	const auto r = inject("--fault stall --count 3 --scans 8 --turn-deg 2 --seed 5", "stall.clf");
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const auto faults = reportedFaults(r.output);
+	ASSERT_EQ(faults.size(), 3u) << r.output;
+	const auto scans = only(readClf(d.path("stall.clf")), "FLASER");
+	ASSERT_EQ(scans.size(), inScans.size());
+	std::vector<bool> stale(scans.size(), false);
+	for (const auto& f : faults)
+	{
+		EXPECT_EQ(f.kind, "stall");
+		ASSERT_LT(f.scan + 9, inScans.size());
+		// During a turn: the odometry turns at least 2 degrees over the stall.
+		EXPECT_GE(std::abs(angleDiff(inScans[f.scan + 8].odo.phi(), inScans[f.scan].odo.phi())), 2 * M_PI / 180);
+		for (std::size_t k = f.scan + 1; k <= f.scan + 8; ++k) stale[k] = true;
+	}
+	for (std::size_t k = 0; k < scans.size(); ++k)
+	{
+		EXPECT_EQ(scans[k].ranges, inScans[k].ranges) << "scan " << k;
+		std::size_t s = k;	// the reading it shows: the last before the stall
+		while (stale[s]) --s;
+		EXPECT_TRUE(samePose(scans[k].odo, inScans[s].odo)) << "scan " << k;
+		EXPECT_TRUE(samePose(scans[k].laser - scans[k].odo, inScans[k].laser - inScans[k].odo)) << "scan " << k;
+	}
+}
+
 TEST_F(FaultInject, BadArgumentsExitWith2AndOneLine)
 {
 	const std::string out = d.path("never.clf");

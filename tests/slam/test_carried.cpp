@@ -1,8 +1,11 @@
 // A robot carried with its odometry unaware: the odometry stands still while the scans move.
 // The builder must notice from the scans themselves (matchWhenScanChanged) and keep tracking.
 #include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
+
+#include <algorithm>
 
 #include "SyntheticLogs.h"
 #include "SyntheticWorld.h"
@@ -13,17 +16,27 @@ using namespace pmslam::testing;
 
 namespace
 {
-// Truth along roomPath(); odometry equal to it except frozen over scans [from, to), after which it
-// goes on with the true increments from where it stood.
-double endError(double matchWhenScanChanged, std::size_t from, std::size_t to)
+struct EndError
+{
+	double position = 0, headingDeg = 0;
+};
+
+// Truth along `truth`; odometry equal to it except frozen over scans [from, to), after which it goes on
+// with the true increments from where it stood (`catchUp` false: a robot carried, its wheels unaware) or
+// jumps to where it would have been (`catchUp`: a stalled reading catching up in one step).
+EndError endError(double matchWhenScanChanged, std::size_t from, std::size_t to, bool catchUp = false,
+				  const std::vector<TPose2D>& truth = roomPath(240))
 {
 	const auto world = furnishedRoom();
-	const auto truth = roomPath(240);
-	std::vector<TPose2D> odo{truth.front()};
+	std::vector<TPose2D> odo{truth.front()}, unfrozen{truth.front()};
 	for (std::size_t k = 1; k < truth.size(); ++k)
 	{
 		const CPose2D d = CPose2D(truth[k]) - CPose2D(truth[k - 1]);
-		odo.push_back(k >= from && k < to ? odo.back() : (CPose2D(odo.back()) + d).asTPose());
+		unfrozen.push_back((CPose2D(unfrozen.back()) + d).asTPose());
+		if (k >= from && k < to)
+			odo.push_back(odo.back());
+		else
+			odo.push_back(catchUp ? unfrozen.back() : (CPose2D(odo.back()) + d).asTPose());
 	}
 	pmslam::PerfectMatchSlam slam;
 	slam.PM_options.odometrySmoothing = false;
@@ -38,14 +51,36 @@ double endError(double matchWhenScanChanged, std::size_t from, std::size_t to)
 		last = slam.processScan(scan).pose;
 	}
 	const auto t = relativeToFirst(truth, truth.size() - 1);
-	return std::hypot(last.x - t.x, last.y - t.y);
+	return {std::hypot(last.x - t.x, last.y - t.y), std::abs(mrpt::math::wrapToPi(last.phi - t.phi)) * 180 / M_PI};
+}
+
+// roomPath(240) with a spin of 90 degrees on the spot over scans [100, 110).
+std::vector<TPose2D> spinningPath()
+{
+	auto p = roomPath(240);
+	for (std::size_t k = 0; k < p.size(); ++k) p[k].phi += std::clamp((double(k) - 100) / 10, 0.0, 1.0) * M_PI / 2;
+	return p;
 }
 }  // namespace
 
 TEST(Carried, ScansThatMoveWhileOdometryStandsStillAreTracked)
 {
 	// Frozen while the robot crosses the room (about 2.6 m): tracked to the end within 2 cm.
-	EXPECT_LT(endError(0.3, 20, 120), 0.02);
+	EXPECT_LT(endError(0.3, 20, 120).position, 0.02);
 	// Without the check the robot is where odometry left it: far off.
-	EXPECT_GT(endError(0.0, 20, 120), 0.3);
+	EXPECT_GT(endError(0.0, 20, 120).position, 0.3);
+}
+
+TEST(Carried, AReadingThatStallsDuringASpinAndCatchesUpIsNotCountedTwice)
+{
+	// The reading stands still over 8 scans of a 90-degree spin, then jumps by the whole turn at once. The scans
+	// measured the turn meanwhile; counting the catch-up on top of it predicts 70-90 degrees off, beyond what the
+	// match or its ±30-degree search can bring back.
+	const EndError stalled = endError(0.3, 101, 109, true, spinningPath());
+	EXPECT_LT(stalled.position, 0.03);
+	EXPECT_LT(stalled.headingDeg, 1.0);
+	// A robot carried through the same spin (its odometry never catches up) is followed all the same.
+	const EndError carried = endError(0.3, 101, 109, false, spinningPath());
+	EXPECT_LT(carried.position, 0.03);
+	EXPECT_LT(carried.headingDeg, 1.0);
 }

@@ -239,3 +239,24 @@ TEST(HypothesisSearch, TheWindowGrowsWithWhatIsUncertain)
 	EXPECT_TRUE(w.alwaysSearch);
 	EXPECT_NEAR(w.linear, 2.0, 1e-12);
 }
+
+TEST(MotionModel, AReadingThatStoodStillWhileTheScansMovedIsAlsoCountedFromWhereItStood)
+{
+	pmslam::MotionModel m(motionOptions());
+	// A reading every scan: the prediction counts from the previous estimate and there is no other.
+	EXPECT_FALSE(m.predict(at(10.0), TPose2D(0, 0, 0), TPose2D(0, 0, 0)).alternative);
+	EXPECT_FALSE(m.predict(at(10.1), TPose2D(0.1, 0, 0), TPose2D(0.1, 0, 0)).alternative);
+	// The reading stands still at (0.1, 0, 0) while the scans turn the robot by 60 degrees.
+	EXPECT_FALSE(m.predict(at(10.2), TPose2D(0.1, 0, 0), TPose2D(0.1, 0, 0)).alternative);
+	EXPECT_FALSE(m.predict(at(10.3), TPose2D(0.1, 0, 0), TPose2D(0.1, 0, M_PI / 6)).alternative);
+	// Then it catches up with the whole turn: counted from the previous estimate (120 degrees), and from
+	// where it stood still (60 degrees, the turn the scans measured).
+	const auto p = m.predict(at(10.4), TPose2D(0.1, 0, M_PI / 3), TPose2D(0.1, 0, M_PI / 3));
+	EXPECT_NEAR(p.pose.phi, 2 * M_PI / 3, 1e-9);
+	ASSERT_TRUE(p.alternative);
+	EXPECT_NEAR(p.alternative->phi, M_PI / 3, 1e-9);
+	EXPECT_NEAR(p.alternative->x, 0.1, 1e-9);
+	// A reading that stood still while the estimate stood still too offers nothing new.
+	m.predict(at(10.5), TPose2D(0.1, 0, M_PI / 3), TPose2D(0.1, 0, M_PI / 3));
+	EXPECT_FALSE(m.predict(at(10.6), TPose2D(0.2, 0, M_PI / 3), TPose2D(0.1, 0, M_PI / 3)).alternative);
+}

@@ -15,12 +15,16 @@ namespace
 // Goodness below the best within which a re-localisation candidate is a rival: the margin a pose
 // away from a trusted prediction must win by (HypothesisSearch::search).
 constexpr double kRivalsWithin = 0.15;
+// How much better than the match from the prediction a pose away from it must score (D12): in a
+// look-alike place a somewhat better pose is as often the wrong one as the right one.
+constexpr double kClearlyBetter = 0.15;
 }  // namespace
 
 SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost, double sinceAccepted) const
 {
 	SearchWindow w;
 	w.stoppedAt = motion.extrapolated ? motion.previous : motion.pose;
+	w.alternative = motion.alternative;
 	w.linear = m_options.wideSearchLinear;
 	w.angular = m_options.wideSearchAngular;
 	if (lost)
@@ -57,6 +61,22 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 {
 	Hypothesis h;
 	h.pose = matcher.alignPoints(map, hits, predicted, &h.info);
+	if (window.alternative)
+	{
+		// Odometry that stood still and caught up: counted from where it stood still rather than from
+		// the previous estimate where the scan clearly agrees (a stalled reading: the scans measured
+		// that motion already; a robot carried while its wheels stood keeps the other).
+		Hypothesis a;
+		a.pose = matcher.alignPoints(map, hits, *window.alternative, &a.info);
+		if (a.info.goodness > h.info.goodness + kClearlyBetter)
+		{
+			SearchWindow w = window;
+			w.alternative.reset();
+			Hypothesis best = search(matcher, map, hits, *window.alternative, w);
+			best.fromAlternative = true;
+			return best;
+		}
+	}
 	// The cheap test: a match that explains the scan well needs no search, whatever came before
 	// (after a gap, a jump or a rejection the window is only wider).
 	const bool poor = m_options.wideSearchBelowGoodness > 0 && h.info.goodness < m_options.wideSearchBelowGoodness;
@@ -69,7 +89,7 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 	// the scan as a normal match does: after a gap or in a look-alike place a mediocre candidate
 	// is more often a wrong pose than a right one. A stale prediction (alwaysSearch) has no such
 	// claim: the best explanation of the scan wins.
-	const double margin = window.alwaysSearch ? 0.0 : 0.15;
+	const double margin = window.alwaysSearch ? 0.0 : kClearlyBetter;
 	double bestGoodness = std::max(h.info.goodness + margin, m_options.wideSearchBelowGoodness);
 	// A re-localisation window (wider than the wide basin's) holds look-alike places.
 	const bool relocalizing = window.linear > m_options.wideSearchLinear + 1e-9 ||

@@ -1,5 +1,6 @@
 /* pmslam — odometry as a measurement (see MotionModel.h). */
 #include <mrpt/system/datetime.h>
+#include <mrpt/math/wrap2pi.h>
 #include <pmslam/slam/MotionModel.h>
 
 #include <algorithm>
@@ -19,6 +20,9 @@ constexpr double kMinOdometryGap = 0.01, kMaxOdometryGap = 0.5;  // s
 // A lidar alone: the velocity is measured over the matches of the last kVelocityWindow s (long
 // enough to average the matches' jitter, short enough to follow a turn), once they span at least
 // kMinVelocitySpan s; it is extrapolated at most kMaxExtrapolation s past the last match.
+// Two predictions closer than this are one (m, rad).
+constexpr double kSameLinear = 0.02, kSameAngular = 0.5 * M_PI / 180;
+bool same(const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b) { return a.x == b.x && a.y == b.y && a.phi == b.phi; }
 constexpr double kVelocityWindow = 0.5, kMinVelocitySpan = 0.1, kMaxExtrapolation = 10.0;  // s
 }
 
@@ -101,6 +105,8 @@ MotionPrediction MotionModel::predict(const mrpt::Clock::time_point& stamp,
 			m.pose = *p;
 			m.extrapolated = true;
 		}
+	if (m.odometry)
+		if (const auto alt = sinceStoodStill(*m.odometry, estimate, m.pose); alt && !m.glitch) m.alternative = alt;
 	if (m.odometry) m_odometryAtLastScan = m.odometry;
 	// Where the prediction cannot be trusted, the match searches a wider window: after a time gap
 	// or an odometry jump. No odometry at all (a lidar alone, live): across a gap the robot went
@@ -124,6 +130,25 @@ void MotionModel::matched(const mrpt::math::TPose2D& pose, double time)
 void MotionModel::correct(const mrpt::poses::CPose2D& T)
 {
 	for (auto& [t, p] : m_matches) p = (T + mrpt::poses::CPose2D(p)).asTPose();
+	if (m_anchor) m_anchor->first = (T + mrpt::poses::CPose2D(m_anchor->first)).asTPose();
+}
+
+std::optional<mrpt::math::TPose2D> MotionModel::sinceStoodStill(const mrpt::math::TPose2D& odometry,
+																const mrpt::math::TPose2D& estimate,
+																const mrpt::math::TPose2D& predicted)
+{
+	if (m_anchorPending) m_anchor.emplace(estimate, *m_anchorPending);  // the estimate of the scan it was first seen at
+	m_anchorPending.reset();
+	const bool fresh = !m_odometryAtLastScan || !same(odometry, *m_odometryAtLastScan);
+	if (!fresh) return std::nullopt;
+	m_anchorPending = odometry;
+	// Only after a reading that stood still (the previous scan's is the anchor's) while the estimate moved.
+	if (!m_anchor || !same(m_anchor->second, *m_odometryAtLastScan)) return std::nullopt;
+	const mrpt::poses::CPose2D delta = mrpt::poses::CPose2D(odometry) - mrpt::poses::CPose2D(m_anchor->second);
+	const mrpt::math::TPose2D alt = (mrpt::poses::CPose2D(m_anchor->first) + delta).asTPose();
+	const bool differs = std::hypot(alt.x - predicted.x, alt.y - predicted.y) > kSameLinear ||
+						 std::abs(mrpt::math::wrapToPi(alt.phi - predicted.phi)) > kSameAngular;
+	return differs ? std::optional<mrpt::math::TPose2D>(alt) : std::nullopt;
 }
 
 std::optional<mrpt::math::TPose2D> MotionModel::velocity() const

@@ -251,6 +251,7 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	const Hypothesis best = searchOrFollowRivals(pts, r, window);
+	if (best.fromAlternative) r.predicted = *window.alternative;  // the prediction the scan agreed with
 	r.matchMs = millisecondsSince(t0);
 	r.info = best.info;
 	r.wideSearch = best.wideSearch;

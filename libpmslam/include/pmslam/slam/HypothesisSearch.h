@@ -25,6 +25,7 @@
 #include <pmslam/match/PerfectMatchMatcher.h>
 #include <pmslam/slam/MotionModel.h>
 
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -52,6 +53,9 @@ struct SearchWindow
 	/** Where the robot would be had it stopped: the motion prior is centred on the stretch from here
 	 * to the prediction (the same pose unless the prediction was extrapolated without odometry). */
 	mrpt::math::TPose2D stoppedAt;
+	/** A second prediction (MotionPrediction::alternative): both are matched, the better one is the
+	 * prediction the window is centred on. */
+	std::optional<mrpt::math::TPose2D> alternative;
 };
 
 /** A refined candidate pose of a re-localisation, its match, and how plausible the motion model finds
@@ -71,6 +75,7 @@ struct Hypothesis
 	bool wideSearch = false;  ///< the window was searched
 	bool relocalized = false;  ///< a pose from the search beat the match from the prediction
 	bool undecided = false;	 ///< a stale prediction's search found look-alike poses: nothing decided
+	bool fromAlternative = false;  ///< window.alternative was the better prediction
 	/** A stale prediction's re-localisation: every refined candidate, the prediction's own match
 	 * among them, that explains the scan nearly as well as the best, for the scans and the motion
 	 * prior to decide between (Rivals.h). */

@@ -17,6 +17,10 @@
  * match (a robot keeps going; it does not keep going for ever). Across a gap that
  * is where a robot that drove on would be; the search window around it also holds
  * where one that stopped would be.
+ * Odometry is a measurement of the motion between its own readings: after a reading
+ * that stood still while the scans moved the robot, the next one is also offered
+ * counted from where it stood still (MotionPrediction::alternative), and the
+ * match decides.
  * For the reported trajectory's smoother it moves a copied reading to the scan's
  * time (odometryToScanTime); the prediction keeps the reading as it is.
  *
@@ -64,6 +68,11 @@ struct MotionPrediction
 	bool extrapolated = false;	///< no odometry: moved at the velocity of the recent matches
 	/** The previous estimate, unmoved: where an extrapolated robot would be had it stopped. */
 	mrpt::math::TPose2D previous;
+	/** The first reading after odometry stood still while the scans moved the robot: that reading's
+	 * increment measures the motion since it stood still, which the scans may have measured already
+	 * (a stalled reading catching up) or not (a robot carried while its wheels stood). `pose` counts it
+	 * from the previous estimate; this, from the estimate where the reading stood still. */
+	std::optional<mrpt::math::TPose2D> alternative;
 };
 
 class MotionModel
@@ -85,7 +94,7 @@ class MotionModel
 	/** An accepted match at `pose` (map frame) of the scan stamped `time` (s): the velocity a lidar
 	 * alone is predicted with. */
 	void matched(const mrpt::math::TPose2D& pose, double time);
-	/** The map frame moved by `T` (a loop closure's correction): so do the recent matches. */
+	/** The map frame moved by `T` (a loop closure's correction): so do the recent matches and the anchor. */
 	void correct(const mrpt::poses::CPose2D& T);
 
    private:
@@ -95,10 +104,19 @@ class MotionModel
 	std::optional<std::pair<double, mrpt::math::TPose2D>> m_timedOdometry[2];
 	std::size_t m_timedReadings = 0, m_burstReadings = 0;
 	std::optional<mrpt::math::TPose2D> m_odometryAtLastScan;
+	// The estimate of the scan at which the current reading was first seen, and that reading (the
+	// anchor of a reading that stands still); pending: seen at the last scan, whose estimate comes next.
+	std::optional<std::pair<mrpt::math::TPose2D, mrpt::math::TPose2D>> m_anchor;
+	std::optional<mrpt::math::TPose2D> m_anchorPending;
 	double m_lastScanTime = std::nan("");
 	// A lidar alone: the accepted matches of the last kVelocityWindow s (time, pose), oldest first,
 	// and the time of the newest.
 	std::deque<std::pair<double, mrpt::math::TPose2D>> m_matches;
+	/** MotionPrediction::alternative for `odometry` (the scan's reading), `estimate` (the previous scan's)
+	 * and `predicted`; moves the anchor on. */
+	std::optional<mrpt::math::TPose2D> sinceStoodStill(const mrpt::math::TPose2D& odometry,
+													   const mrpt::math::TPose2D& estimate,
+													   const mrpt::math::TPose2D& predicted);
 	/** The robot-frame motion per second (vx, vy, ω) over the recent matches (none: unknown). */
 	std::optional<mrpt::math::TPose2D> velocity() const;
 	/** `estimate` moved at the recent matches' velocity for the part of the `dt` s since the
