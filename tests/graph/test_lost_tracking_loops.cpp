@@ -113,3 +113,61 @@ TEST(LostTrackingLoops, AStretchLoopingOntoItselfIsStillBroughtBackToWhatCameBef
 	EXPECT_LT(error, 0.1);
 	EXPECT_LT(worst, 0.2);
 }
+
+// D46. After a loss the front-end put the robot 60 degrees and metres off (a long gap across which the
+// odometry turned wrong, a re-localisation onto a look-alike): beyond the widest drift window (10 m,
+// 45 degrees), so no candidate the graph expects is ever near. The stretch's keyframes are searched on
+// the whole map from before the loss; the places found are verified and accepted as any loop, and the
+// stretch comes back. Without the whole-map search (globalSearchEvery 0) it stays where it was put.
+TEST(LostTrackingLoops, AStretchPlacedBeyondEveryDriftWindowIsFoundByAWholeMapSearch)
+{
+	const SyntheticWorld world = corridorWithDeadEnd();
+	Leg path;
+	path.straight({1, 0, 0}, {35, 0, 0});
+	path.spin({35, 0, 0}, 0, M_PI);
+	path.straight({35, 0, M_PI}, {20, 0, M_PI});
+	const std::size_t lost = path.poses.size();
+	path.spin({20, 0, M_PI}, M_PI, M_PI / 2);
+	path.straight({20, 0, M_PI / 2}, {20, 14, M_PI / 2});
+	path.spin({20, 14, M_PI / 2}, M_PI / 2, -M_PI / 2);
+	path.straight({20, 14, -M_PI / 2}, {20, 0, -M_PI / 2});
+	path.spin({20, 0, -M_PI / 2}, -M_PI / 2, -M_PI);
+	path.straight({20, 0, -M_PI}, {2, 0, -M_PI});
+	const std::size_t n = path.poses.size();
+
+	const auto run = [&](double globalSearchEvery) {
+		pmslam::LoopClosureOptions o;
+		o.background = false;
+		o.globalSearchEvery = globalSearchEvery;
+		pmslam::LoopClosure lc(o, pmslam::PerfectMatchMatcher::TConfigParams{}, pmslam::OccupancyGridUpdateOptions{});
+		const Eigen::Matrix3d H = Eigen::Vector3d(2e4, 2e4, 2e5).asDiagonal();
+		// From the loss on, the front-end's frame is turned by 60 degrees about a point 3 m off the
+		// robot: the stretch lies 13-17 m from where it is.
+		const CPose2D at(path.poses[lost]);
+		const CPose2D offset = at + CPose2D(3, -2, 60.0 * M_PI / 180) + (-at);
+		CPose2D frame;
+		for (std::size_t k = 0; k < n; ++k)
+		{
+			if (auto u = lc.sync()) frame = u->correction + frame;
+			const CPose2D truth(path.poses[k]);
+			const CPose2D placed = frame + (k >= lost ? offset + truth : truth);
+			const auto scan = world.scan(path.poses[k], 361, 2 * M_PI, 20.0, 0.005, unsigned(k + 1));
+			lc.addKeyframe(placed.asTPose(), 100 + k, pmslam::scanToPoints(scan), H, k != lost, false);
+		}
+		lc.finish();
+		double worst = 0;
+		for (std::size_t k = lost; k < n; ++k)
+		{
+			const CPose2D r = CPose2D(lc.nodePose(k)) - CPose2D(lc.nodePose(0));
+			const CPose2D t = CPose2D(path.poses[k]) - CPose2D(path.poses[0]);
+			worst = std::max(worst, std::hypot(r.x() - t.x(), r.y() - t.y()));
+		}
+		std::printf("globalSearchEvery %.1f: worst keyframe since the loss %.3f m off; %zu whole-map searches, "
+					"%zu places verified, %zu loop edges, %.2f s in them\n",
+					globalSearchEvery, worst, lc.stats().globalSearches, lc.stats().globalVerified, lc.stats().accepted,
+					lc.stats().globalSeconds);
+		return worst;
+	};
+	EXPECT_GT(run(0), 5.0);	 // the drift window never reaches the truth
+	EXPECT_LT(run(2.0), 0.2);
+}

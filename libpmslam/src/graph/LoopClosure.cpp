@@ -5,6 +5,7 @@
 #include <pmslam/graph/KeyframeProbe.h>
 #include <pmslam/graph/LoopClosure.h>
 #include <malloc.h>
+#include <pmslam/match/BranchAndBoundSearch.h>
 #include <pmslam/match/CorrelativeSearch.h>
 
 #include <algorithm>
@@ -39,6 +40,25 @@ mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m)
 // m: a search window up to which agreeingMatches verified matches, and 4 refined peaks, are enough.
 constexpr double kWideWindow = 4.0;
 
+// A whole-map search (D46): the distinct places taken (within 0.8 of the best's score), the window each is
+// verified in (the coarse-to-fine search's places are exact on its lattice; PM refines within a cell or two),
+// and how near a keyframe from before the loss must be to a place for its visit's local map to hold it.
+constexpr std::size_t kGlobalPlaces = 3;
+constexpr double kGlobalWindow = 1.0, kGlobalAngle = 10.0 * M_PI / 180, kGlobalVisitRadius = 5.0;
+
+// m: the lever arm at which a heading error counts as a displacement (what a turn moves at 5 m from the robot).
+constexpr double kDoubtLever = 5.0;
+
+BranchAndBoundSearch::Options globalSearchOptions()
+{
+	BranchAndBoundSearch::Options o;
+	o.candidates = kGlobalPlaces;
+	o.minRelativeScore = 0.8;
+	o.maxPoints = 120;
+	o.rangeQuantile = 0.9;
+	return o;
+}
+
 // A loose information for a loop edge along directions the scan does not fix (a corridor):
 // 1 m and 30 degrees, enough to keep the matrix positive definite without pulling.
 const Eigen::Matrix3d kLoopFloor = Eigen::Vector3d(1.0, 1.0, 1.0 / std::pow(30.0 * M_PI / 180, 2)).asDiagonal();
@@ -62,6 +82,16 @@ Eigen::Matrix3d LoopClosure::odometryInformation(const TPose2D& z, double scale)
 	const double sl = scale * (m_opts.odometrySigmaLinear + m_opts.odometrySigmaPerMeter * std::hypot(z.x, z.y));
 	const double sa = scale * (m_opts.odometrySigmaAngular + m_opts.odometrySigmaPerRadian * std::abs(z.phi));
 	return Eigen::Vector3d(1 / (sl * sl), 1 / (sl * sl), 1 / (sa * sa)).asDiagonal();
+}
+
+double LoopClosure::untrackedDoubt(const TPose2D& z) const
+{
+	// Three sigmas of the loose odometry edge across lost tracking (addKeyframe), its heading at the
+	// 5 m lever arm with which a turn moves what the robot sees.
+	constexpr double kScale = 5.0, kLever = kDoubtLever;
+	const double sl = kScale * (m_opts.odometrySigmaLinear + m_opts.odometrySigmaPerMeter * std::hypot(z.x, z.y));
+	const double sa = kScale * (m_opts.odometrySigmaAngular + m_opts.odometrySigmaPerRadian * std::abs(z.phi));
+	return 3 * (sl + kLever * sa);
 }
 
 Eigen::Matrix3d LoopClosure::toEdgeFrame(const Eigen::Matrix3d& I, double fromPhi) const
@@ -114,7 +144,12 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 	// re-localisation the front-end's placement is a hypothesis (a look-alike room, a stretch of
 	// corridor further on): its matches become loop constraints only once a detected loop confirms
 	// it, or they would outvote the detected loops that could undo a wrong one.
-	if (id > 0 && (!tracked || searched)) m_unconfirmedFrom = id;
+	if (id > 0 && (!tracked || searched))
+	{
+		if (m_unconfirmedFrom == SIZE_MAX) m_lossStart = id, m_lossDoubt = 0;
+		m_unconfirmedFrom = id;
+		m_lossDoubt += searched ? std::numeric_limits<double>::infinity() : untrackedDoubt(relativePose(m_nodes[id - 1].mapPose, pose));
+	}
 	// A match that explains its scan less well than this log's keyframes usually are explained is no
 	// loop constraint either (a front-end off its track: after the aces robot was carried 3 m its
 	// matches scored 0.74-0.87 for a while).
@@ -325,6 +360,7 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node, std::optional<Eigen
 	const std::size_t attempts = m_stats.attempts;
 	if (frontEndHessian) linkRevisit(node, *frontEndHessian);
 	detect(node);
+	detectGlobal(node);
 	++m_sinceOptimization;
 	optimizeAndPatch(m_loopOpen, r);
 	// The local maps just verified against were thousands of small distance blocks: hand the freed
@@ -402,6 +438,13 @@ void LoopClosure::detect(std::size_t node)
 		const double back = n.travel - m_nodes[c].travel;
 		if (std::optional<Match> m = verify(node, c, radius(back), angle(back))) verified.push_back(*m);
 	}
+	admit(node, verified);
+}
+
+void LoopClosure::admit(std::size_t node, std::vector<Match>& verified)
+{
+	const Node& n = m_nodes[node];
+	const auto beforeLoss = [&](std::size_t id) { return id < m_unconfirmedFrom; };
 	// Two visits that each explain the scan, at places further apart than the graph can be off right
 	// after a closure: a look-alike place (a corridor's pilasters a period on), whichever is right.
 	// (Not a visit from before lost tracking against one since: there the graph may be off by any amount.)
@@ -415,6 +458,7 @@ void LoopClosure::detect(std::size_t node)
 		m_stats.ambiguous += verified.size();
 		verified.clear();
 	}
+	bool confirmed = false;
 	for (const Match& m : verified)
 	{
 		++m_stats.verified;
@@ -440,7 +484,7 @@ void LoopClosure::detect(std::size_t node)
 			if (a.accepted) continue;
 			a.accepted = true;
 			m_graph.addEdge(a.from, a.to, a.z, toMrpt(a.information), PoseGraphEdgeKind::Loop);
-			if (beforeLoss(a.from) && !beforeLoss(a.to)) m_unconfirmedFrom = SIZE_MAX;
+			if (beforeLoss(a.from) && !beforeLoss(a.to)) m_unconfirmedFrom = SIZE_MAX, confirmed = true;
 			++m_stats.accepted;
 			++m_pendingLoops;
 		}
@@ -452,10 +496,79 @@ void LoopClosure::detect(std::size_t node)
 		m_lastClosure = n.travel;
 		if (!internal) m_lastAnchor = n.travel;
 	}
+	if (confirmed)
+	{
+		m_lossStart = SIZE_MAX;
+		m_beforeLoss.reset();
+	}
+}
+
+const std::pair<LikelihoodPyramid, LikelihoodPyramid>& LoopClosure::mapBeforeLoss()
+{
+	if (!m_beforeLoss || m_pyramidsBefore != m_lossStart)
+	{
+		OccupancyDistanceGridMap map(m_gridOpts);
+		std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
+		for (const auto& [pose, scan] : m_fixed) scans.emplace_back(pose, &scan);
+		for (std::size_t i = 0; i < m_lossStart; ++i) scans.emplace_back(m_graph.pose(i), m_nodes[i].scan.get());
+		map.insertScans(scans);
+		LikelihoodPyramid fine(map.distanceMap());
+		LikelihoodPyramid coarse = BranchAndBoundSearch(fine, globalSearchOptions()).coarsePyramid();
+		m_beforeLoss = std::make_unique<std::pair<LikelihoodPyramid, LikelihoodPyramid>>(std::move(fine), std::move(coarse));
+		m_pyramidsBefore = m_lossStart;
+	}
+	return *m_beforeLoss;
+}
+
+void LoopClosure::detectGlobal(std::size_t node)
+{
+	// After lost tracking (or a re-localisation) the stretch since is where the front-end put it, and
+	// that may be anywhere: a robot set down on new ground after a long gap, whose odometry across the
+	// gap was off, comes back to old ground metres or tens of metres from where the graph expects it,
+	// beyond any drift window. Where the loss made the stretch's placement more doubtful than the drift
+	// window towards what came before reaches (a re-localisation, or odometry alone across a gap), its keyframes are searched on the whole map from before the loss; the
+	// places found are verified like any loop, and accepted as any loop is: when agreeing matches
+	// follow (one more per doubling of the correction beyond 4 m, as for a wide window).
+	const Node& n = m_nodes[node];
+	if (m_opts.globalSearchEvery <= 0 || m_unconfirmedFrom == SIZE_MAX || m_lossStart == SIZE_MAX ||
+		m_lossDoubt <= std::min(m_opts.maxSearchRadius, m_opts.searchRadius + m_opts.searchRadiusPerMeter * (n.travel - m_lastAnchor)) ||
+		n.travel - m_lastGlobal < m_opts.globalSearchEvery || n.scan->hits.size() < 10)
+		return;
+	m_lastGlobal = n.travel;
+	const auto t0 = std::chrono::steady_clock::now();
+	const auto& [fine, coarse] = mapBeforeLoss();
+	const auto found = BranchAndBoundSearch(fine, globalSearchOptions()).searchGlobalCoarseToFine(n.scan->hits, coarse);
+	++m_stats.globalSearches;
+	const TPose2D x = m_graph.pose(node);
+	std::vector<Match> verified;
+	for (const auto& c : found.candidates)
+	{
+		// The visit verified is the keyframe from before the loss nearest to the place found.
+		std::size_t nearest = SIZE_MAX;
+		double nearestD = kGlobalVisitRadius;
+		for (std::size_t i = 0; i < m_lossStart && n.travel - m_nodes[i].travel >= m_opts.minTravel; ++i)
+		{
+			const double d = distance(m_graph.pose(i), c.pose);
+			if (d < nearestD) nearestD = d, nearest = i;
+		}
+		if (nearest == SIZE_MAX) continue;
+		// The correction the place implies, its turn at the lever arm of untrackedDoubt(): it counts
+		// as the search window does for the matches that must agree (a place turned half round, in a
+		// room or corridor that looks alike both ways, needs as many as one 20 m off). Not bounded by
+		// the doubt: that follows the net odometry across the loss, not the path driven meanwhile.
+		const double correction = distance(c.pose, x) + kDoubtLever * std::abs(mrpt::math::wrapToPi(c.pose.phi - x.phi));
+		std::optional<Match> m = verify(node, nearest, kGlobalWindow, kGlobalAngle, c.pose);
+		if (!m) continue;
+		m->window = std::max(m->window, correction);
+		verified.push_back(*m);
+		++m_stats.globalVerified;
+	}
+	admit(node, verified);
+	m_stats.globalSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::size_t candidate, double linWindow,
-													  double angWindow)
+													  double angWindow, const std::optional<TPose2D>& searchCentre)
 {
 	const Node& n = m_nodes[node];
 	const double centre = m_nodes[candidate].travel;
@@ -479,7 +592,7 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	local.insertScans(scans);
 	const DynamicDistanceMap& dm = local.distanceMap();
 	const std::vector<mrpt::math::TPoint2Df>& hits = n.scan->hits;
-	const TPose2D x = m_graph.pose(node);
+	const TPose2D x = searchCentre ? *searchCentre : m_graph.pose(node);
 	struct Refined
 	{
 		TPose2D pose;

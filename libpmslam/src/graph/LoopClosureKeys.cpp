@@ -104,6 +104,9 @@ std::vector<config::Key<L>> makeKeys()
 		config::number<L>("revisitBelowTypical", "", fraction, Level::Expert,
 						  "...when its match explains the scan within this of the recent keyframes' median (D30).",
 						  [](auto& o) -> auto& { return o.revisitBelowTypical; }),
+		config::number<L>("globalSearchEvery", "m", atLeast(0), Level::Expert,
+						  "Path between whole-map loop searches while the stretch since lost tracking is unanchored; 0: none (D46).",
+						  [](auto& o) -> auto& { return o.globalSearchEvery; }),
 	};
 }
 

@@ -117,7 +117,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 		m_smoother.emplace(so);
 	}
 	m_mapEmpty = true;
-	m_scans = m_matched = m_inserted = m_rejected = 0;
+	m_scans = m_matched = m_inserted = m_rejected = m_ambiguous = 0;
 	m_wideSearches = m_relocalizations = m_reanchored = 0;
 	m_last = ScanResult();
 	m_lastHits.clear();
@@ -271,6 +271,7 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 		if (r.undecided && !m_rivals->empty()) r.pose = best.pose;	// the leading look-alike, for now
 		r.rejected = true;
 		++m_rejected;
+		m_ambiguous += verdict == TrackingState::Ambiguous;
 		r.reanchored = verdict == TrackingState::NewGround;
 		m_reanchored += r.reanchored;
 		return verdict;

@@ -67,6 +67,7 @@
 #include <pmslam/graph/PoseGraph.h>
 #include <pmslam/map/BlockMask.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
+#include <pmslam/match/LikelihoodPyramid.h>
 #include <pmslam/match/PerfectMatchMatcher.h>
 #include <pmslam/sensor/ScanPoints.h>
 
@@ -128,6 +129,10 @@ struct LoopClosureOptions : public mrpt::config::CLoadableOptions
 	 * (a front-end off its track explains its scans worse: after the aces robot was carried 3 m its
 	 * matches scored 0.74-0.87 for a while; its alignment to an earlier visit is no loop constraint). */
 	double revisitBelowTypical = 0.05;
+	/** m of path between whole-map searches while the stretch since lost tracking (or a
+	 * re-localisation) is not yet anchored by a loop: where that stretch is relative to the map
+	 * before it, the drift window does not say (D46). 0: none. */
+	double globalSearchEvery = 2.0;
 
 	/** Every INI key of this struct (ConfigKeys.h; LoopClosureKeys.cpp). */
 	static const std::vector<config::Key<LoopClosureOptions>>& keys();
@@ -147,6 +152,9 @@ struct LoopClosureStats
 	std::size_t closures = 0;  ///< loops accepted after a stretch without one
 	std::size_t revisits = 0;  ///< edges from front-end matches onto an earlier visit's part of the map
 	std::size_t revisitsRejected = 0;  ///< of those, disabled by the chi-square test at the end
+	std::size_t globalSearches = 0;	 ///< whole-map searches of a keyframe after lost tracking (D46)
+	std::size_t globalVerified = 0;	 ///< their places that passed the verification
+	double globalSeconds = 0;  ///< worker time in them (the map before the loss and its pyramid included)
 	std::size_t optimizations = 0;
 	std::size_t mapUpdates = 0;	 ///< times the map followed the graph (keyframes re-inserted)
 	std::size_t reinserted = 0;	 ///< keyframes re-inserted, over all map updates
@@ -242,7 +250,17 @@ class LoopClosure
 	JobResult runJob(std::size_t node, std::optional<Eigen::Matrix3d> frontEndHessian);	 // on the worker
 	void linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian);
 	void detect(std::size_t node);
-	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow);
+	// A whole-map search of the keyframe on the map from before the loss, its places verified (D46).
+	void detectGlobal(std::size_t node);
+	// The look-alike test, the agreement of recent matches, and the accepted ones into the graph.
+	void admit(std::size_t node, std::vector<Match>& verified);
+	// The keyframe's match against the local map of `candidate`'s visit, searched within the windows
+	// around `centre` (default: where the graph has the keyframe).
+	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow,
+								const std::optional<mrpt::math::TPose2D>& centre = std::nullopt);
+	// The likelihood pyramids (fine, coarse) of the map of every keyframe before the loss, built once
+	// per loss.
+	const std::pair<LikelihoodPyramid, LikelihoodPyramid>& mapBeforeLoss();
 	// The two matches' relative pose between their keyframes against the graph's (identity: they agree;
 	// for two matches of one keyframe, how far apart they put it).
 	mrpt::math::TPose2D disagreement(const Match& a, const Match& b) const;
@@ -254,6 +272,8 @@ class LoopClosure
 	// since it was put into the map, the patch that re-inserts those that moved more than `reinsert`.
 	void patchMoved(double trigger, double reinsert, JobResult& r);
 	Eigen::Matrix3d odometryInformation(const mrpt::math::TPose2D& z, double scale) const;
+	// m: three sigmas of the odometry edge `z` across lost tracking, its heading at a 5 m lever arm.
+	double untrackedDoubt(const mrpt::math::TPose2D& z) const;
 	Eigen::Matrix3d toEdgeFrame(const Eigen::Matrix3d& mapFrameInformation, double fromPhi) const;
 	std::optional<Update> take(JobResult r);
 	void publish();	 // node poses and loop links for the main thread (no worker running)
@@ -273,6 +293,13 @@ class LoopClosure
 	// First keyframe after tracking was last lost, until a detected loop reaching back across the loss
 	// confirms where the front-end put the robot since (SIZE_MAX: confirmed): no revisit edges meanwhile.
 	std::size_t m_unconfirmedFrom = SIZE_MAX;
+	std::size_t m_lossStart = SIZE_MAX;	 // the first keyframe of that unconfirmed stretch
+	// m: how far the stretch may be off what came before it (untrackedDoubt() summed over its untracked
+	// edges; infinite after a re-localisation, which may have taken a look-alike anywhere in its window).
+	double m_lossDoubt = 0;
+	double m_lastGlobal = -1e18;  // travel (m) at the last whole-map search
+	std::size_t m_pyramidsBefore = SIZE_MAX;  // m_beforeLoss holds the keyframes [0, this)
+	std::unique_ptr<std::pair<LikelihoodPyramid, LikelihoodPyramid>> m_beforeLoss;
 	std::vector<float> m_goodness;	// of the last tracked keyframes' matches (a ring)
 	std::size_t m_goodnessNext = 0;
 	bool m_handedOver = false;	// sync() just handed a new grid over: the front-end matched the old one

@@ -216,6 +216,8 @@ class PerfectMatchSlam
 	std::size_t scansMatched() const { return m_matched; }
 	std::size_t scansInserted() const { return m_inserted; }
 	std::size_t scansRejected() const { return m_rejected; }
+	/** Scans among the rejected whose pose look-alike places left undecided (reported at the leader's). */
+	std::size_t scansAmbiguous() const { return m_ambiguous; }
 	std::size_t wideSearches() const { return m_wideSearches; }
 	std::size_t relocalizations() const { return m_relocalizations; }
 	std::size_t reanchorings() const { return m_reanchored; }
@@ -256,7 +258,7 @@ class PerfectMatchSlam
 	std::optional<OdometrySmoother> m_smoother;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	bool m_mapEmpty = true;
-	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0;
+	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0, m_ambiguous = 0;
 	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0;
 	ScanResult m_last;
 	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
