@@ -1,6 +1,11 @@
 /* pm-slam-app — the SLAM of one run (see SlamRun.h). */
 #include "SlamRun.h"
 
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/poses/CPose2D.h>
+
+#include <cmath>
+
 namespace pmslam_app
 {
 SlamRun::SlamRun(const pmslam::SlamConfig& cfg) : m_odometry(cfg.odometrySource), m_startOdometry(cfg.odometrySource)
@@ -11,9 +16,18 @@ SlamRun::SlamRun(const pmslam::SlamConfig& cfg) : m_odometry(cfg.odometrySource)
 	m_slam.initialize();
 }
 
+namespace
+{
+// Seconds of log without an accepted match after which a robot localising on a fixed map is
+// searched for on the whole map (D47): a gap of the length that makes the tracker's own window
+// search re-localise (relocalizeAfterGap's default) did not find it.
+constexpr double kSearchWhenLostAfter = 2.0;
+}  // namespace
+
 void SlamRun::localize(const mrpt::maps::COccupancyGridMap2D& map, const mrpt::math::TPose2D& initialPose)
 {
 	m_slam.initializeWithFixedMap(map, initialPose);
+	m_prior = &map;
 }
 
 void SlamRun::findStart(const mrpt::maps::COccupancyGridMap2D& map)
@@ -41,16 +55,74 @@ const pmslam::PerfectMatchSlam::ScanResult* SlamRun::process(const pmslam::LogEv
 		if (m_odometry.takeReading(ev)) m_slam.processOdometry(ev.odometry, ev.timestamp);
 		return nullptr;
 	}
-	const auto& r = m_slam.processScan(*ev.scan, m_odometry.scanOdometry(ev));
+	const auto odometry = m_odometry.scanOdometry(ev);
+	const auto& r = m_slam.processScan(*ev.scan, odometry);
 	m_traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
+	if (m_prior) searchWhenLost(ev, m_odometry.forScan(ev));
 	applySmoothedPoses(false);
 	return &r;
+}
+
+void SlamRun::searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry)
+{
+	// A robot lost on a fixed map is searched for as its start was: the whole map, then the scans
+	// decide between the places found, from the first scan of the loss on (so that the place found
+	// can revise every scan reported while lost). The tracker goes on meanwhile; a place found
+	// where the tracker already is changes nothing.
+	if (!m_research && !m_slam.lost())
+	{
+		m_lost.clear();
+		return;
+	}
+	m_lost.push_back({ev, odometry});
+	if (!m_research)
+	{
+		if (m_slam.untrackedFor(ev.timestamp) < kSearchWhenLostAfter) return;
+		m_research = std::make_unique<pmslam::GlobalLocalizer>(*m_prior, m_slam.PM_params, m_slam.PM_options.grid.scan);
+		m_offered = 0;
+		++m_searchesWhenLost;
+	}
+	auto state = m_research->state();
+	for (; m_offered < m_lost.size() && state == pmslam::GlobalLocalizer::State::Searching; ++m_offered)
+		state = m_research->addScan(*m_lost[m_offered].first.scan, m_lost[m_offered].second);
+	if (state == pmslam::GlobalLocalizer::State::Searching) return;
+	if (state == pmslam::GlobalLocalizer::State::Found) placeWhereFound(ev.timestamp);
+	m_research.reset();	 // undecided: searched anew while still lost
+	m_lost.clear();
+}
+
+void SlamRun::placeWhereFound(double now)
+{
+	// The scans the search took, placed as the winner has them: from where it had the first one,
+	// by the odometry since; without odometry only the scan it decided at, where it had it.
+	const auto& first = m_lost.front().second;
+	std::vector<mrpt::math::TPose2D> poses;
+	for (const auto& [ev, odo] : m_lost)
+		if (first && odo)
+			poses.push_back((mrpt::poses::CPose2D(m_research->best()->origin) +
+							 (mrpt::poses::CPose2D(*odo) - mrpt::poses::CPose2D(*first)))
+								.asTPose());
+	if (poses.size() != m_lost.size()) poses.assign(1, m_research->best()->pose);
+	const auto p = poses.back();
+	const auto here = m_slam.currentPose();
+	if (std::hypot(p.x - here.x, p.y - here.y) <= 0.3 && std::abs(mrpt::math::wrapToPi(p.phi - here.phi)) <= 0.09)
+		return;
+	m_slam.placeAt(p);
+	m_placedFrom = m_traj.size() - poses.size();
+	m_placedTo = m_traj.size();
+	for (std::size_t k = 0; k < poses.size(); ++k)
+	{
+		auto& t = m_traj[m_traj.size() - poses.size() + k];
+		t.x = poses[k].x, t.y = poses[k].y, t.yaw = poses[k].phi;
+	}
+	m_foundAgain.push_back({now, p});
 }
 
 void SlamRun::applySmoothedPoses(bool finish)
 {
 	for (const auto& [i, p] : m_slam.takeSmoothedPoses(finish))
-		if (i < m_traj.size()) m_traj[i].x = p.x, m_traj[i].y = p.y, m_traj[i].yaw = p.phi;
+		if (i < m_traj.size() && !(i >= m_placedFrom && i < m_placedTo))  // a global search's placement stays
+			m_traj[i].x = p.x, m_traj[i].y = p.y, m_traj[i].yaw = p.phi;
 }
 
 void SlamRun::finish(pmslam::Trajectory& online)

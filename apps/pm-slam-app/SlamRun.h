@@ -32,6 +32,10 @@ class SlamRun
 	 * there (the events offered so far are to be processed again, from the first). */
 	bool offerForStart(const pmslam::LogEvent& event);
 	bool startUndecided() const { return m_start && m_start->state() == pmslam::GlobalLocalizer::State::Undecided; }
+	/** While localising: whole-map searches started because tracking was lost, and the places they
+	 * moved the robot to (scan time, pose). */
+	std::size_t searchesWhenLost() const { return m_searchesWhenLost; }
+	const std::vector<std::pair<double, mrpt::math::TPose2D>>& foundAgain() const { return m_foundAgain; }
 	/** The search for the start, if there was one (its state says how it ended). */
 	const pmslam::GlobalLocalizer* startSearch() const { return m_start.get(); }
 
@@ -52,6 +56,9 @@ class SlamRun
 	LoopLinks loopLinks() const;
 
    private:
+	/** Localising: a whole-map search once tracking was lost long enough (D47). */
+	void searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry);
+	void placeWhereFound(double now);
 	/** The smoothed poses (odometrySmoothing) replace each scan's pose once final. */
 	void applySmoothedPoses(bool finish);
 
@@ -61,6 +68,14 @@ class SlamRun
 	std::unique_ptr<pmslam::GlobalLocalizer> m_start;
 	const mrpt::maps::COccupancyGridMap2D* m_startMap = nullptr;
 	pmslam::OdometrySelector m_startOdometry;  // its own: the events are offered again to m_odometry after
+	const mrpt::maps::COccupancyGridMap2D* m_prior = nullptr;  // the fixed map, while localising
+	std::unique_ptr<pmslam::GlobalLocalizer> m_research;	// the search for a robot lost while localising
+	// The scans since tracking was lost (with their odometry), the first m_offered of them given to m_research.
+	std::vector<std::pair<pmslam::LogEvent, std::optional<mrpt::math::TPose2D>>> m_lost;
+	std::size_t m_offered = 0;
+	std::size_t m_placedFrom = 0, m_placedTo = 0;	// trajectory indices the last placement revised
+	std::size_t m_searchesWhenLost = 0;
+	std::vector<std::pair<double, mrpt::math::TPose2D>> m_foundAgain;
 };
 
 }  // namespace pmslam_app

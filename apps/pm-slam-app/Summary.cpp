@@ -3,6 +3,7 @@
 
 #include <pmslam/util/RunStatistics.h>
 
+#include <cmath>
 #include <cstdio>
 #include <numeric>
 #include <string>
@@ -31,6 +32,19 @@ void printLoopClosure(const pmslam::LoopClosure& lc, const std::string& out)
 				ls.closures, ls.accepted, ls.rejected, ls.verified, ls.attempts, ls.ambiguous, ls.revisits, ls.revisitsRejected,
 				ls.globalSearches, ls.globalVerified, ls.globalSeconds, ls.optimizations, ls.mapUpdates, ls.reinserted, ls.blocksReplaced, ls.backendSeconds, ls.optimizeSeconds, ls.waitSeconds,
 				out.c_str());
+}
+
+void printRelocation(const SlamRun& run)
+{
+	// Localisation's own evidence (D47): matches whose beams would pass through the map's walls,
+	// and the whole-map searches for a robot lost on the map.
+	std::printf("  localisation: %zu matches rejected because their beams crossed the map's walls; %zu whole-map "
+				"searches after lost tracking, the robot found again %zu times",
+				run.slam().wallCrossings(), run.searchesWhenLost(), run.foundAgain().size());
+	for (const auto& [t, p] : run.foundAgain())
+		std::printf("%s t=%.3f at %.3f %.3f %.1f deg", &t == &run.foundAgain().front().first ? " (" : ",", t, p.x, p.y,
+					p.phi * 180 / M_PI);
+	std::printf("%s\n", run.foundAgain().empty() ? "" : ")");
 }
 
 void printTimes(const RunFacts& f)
@@ -74,13 +88,16 @@ void printSummary(const Options& o, const RunFacts& f)
 	std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
 				f.run.trajectory().size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
 	// "ok" only where every scan was matched within a few seconds of the last accepted one: a run that
-	// went longer without (a gap, look-alike places undecided) found its way back, and says so.
-	const char* state = f.trackingLost ? "LOST (exit status 3)" : f.untracked.warned > 0 ? "recovered" : "ok";
+	// went longer without (a gap, look-alike places undecided), or was found again by a whole-map
+	// search, found its way back, and says so.
+	const bool recovered = f.untracked.warned > 0 || !f.run.foundAgain().empty();
+	const char* state = f.trackingLost ? "LOST (exit status 3)" : recovered ? "recovered" : "ok";
 	std::printf("  tracking: %s; %zu matches rejected (%zu of them ambiguous between look-alike places), %zu wide "
 				"searches, %zu re-localisations, %zu scans inserted at the odometry pose on new ground, longest span "
 				"without an accepted match %.1f s (%zu over %.0f s)\n",
 				state, slam.scansRejected(), slam.scansAmbiguous(), slam.wideSearches(), slam.relocalizations(),
 				slam.reanchorings(), f.untracked.longest, f.untracked.warned, kWarnUntrackedSeconds);
+	if (o.localizing()) printRelocation(f.run);
 	if (const auto* lc = slam.loopClosure()) printLoopClosure(*lc, o.out);
 	if (f.live) f.live->printSummary(f.run.trajectory().size());
 	if (o.snapshotEvery > 0)

@@ -121,6 +121,31 @@ TEST_F(GlobalLocalization, PmSlamAppLocalisesOnAFolderAYamlAndASimpleMapWithoutA
 	}
 }
 
+// --initial-pose is a hint: given one metres and tens of degrees wrong, the tracker loses the robot
+// within seconds (its matches rejected, or crossing the map's walls), the whole map is searched as for
+// an unknown start, and every scan, those reported while lost included, ends where the SLAM run had it.
+// The run says it was found again and does not call its tracking "ok".
+TEST_F(GlobalLocalization, PmSlamAppFindsTheRobotAgainFromAWrongStartPose)
+{
+	const auto slam = pmslam::loadTrajectory(sampleMapFolder() + "/trajectory.txt");
+	pmslam::testing::ScratchDir dir("global-again");
+	for (const std::string hint : {"2.5,1.5,120", "-1,0.5,-60"})
+	{
+		const std::string out = dir.path("loc");
+		const auto r = run(quote(kApp) + " --localize " + quote(sampleMapFolder()) + " --initial-pose=" + hint +
+						   " --out " + quote(out) + " " + quote(kSample));
+		ASSERT_EQ(r.exitCode, 0) << hint << "\n" << r.output;
+		EXPECT_NE(r.output.find("the robot found again 1 times"), std::string::npos) << r.output;
+		EXPECT_NE(r.output.find("tracking: recovered"), std::string::npos) << r.output;
+		const auto loc = pmslam::loadTrajectory(out + "/trajectory.txt");
+		ASSERT_EQ(loc.size(), slam.size()) << hint;
+		double worst = 0;
+		for (std::size_t i = 0; i < slam.size(); ++i)
+			worst = std::max(worst, std::hypot(slam[i].x - loc[i].x, slam[i].y - loc[i].y));
+		EXPECT_LT(worst, 0.1) << hint;
+	}
+}
+
 // The scans are of another building: no place explains them, or none clearly. The run says so and
 // exits 3; it never tracks from a guess or reports "tracking: ok".
 TEST_F(GlobalLocalization, OnAMapOfAnotherBuildingItSaysSoAndTracksNothing)

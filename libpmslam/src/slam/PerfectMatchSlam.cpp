@@ -25,6 +25,10 @@ namespace
 {
 // Views after which look-alike rivals still undecided are let go, and the scans searched anew.
 constexpr std::size_t kMaxRivalViews = 20;
+// D47: a match on a fixed map is rejected when more than this share of its beams, each cut this
+// much short of its end, crosses the map's walls.
+constexpr double kMaxWallCrossing = 0.5;
+constexpr double kWallCrossingMargin = 0.35;  // m
 
 // Each part of the front-end gets its own options, taken from MapBuilderOptions.
 MotionModelOptions motionOptions(const MapBuilderOptions& o)
@@ -118,7 +122,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	}
 	m_mapEmpty = true;
 	m_scans = m_matched = m_inserted = m_rejected = m_ambiguous = 0;
-	m_wideSearches = m_relocalizations = m_reanchored = 0;
+	m_wideSearches = m_relocalizations = m_reanchored = m_crossedWalls = m_placed = 0;
 	m_last = ScanResult();
 	m_lastHits.clear();
 	m_last.pose = m_last.predicted = m_pose;
@@ -263,9 +267,16 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 	// A standstill check that finds the robot where odometry says keeps the prediction: not a
 	// match, the pose and the gate stay as they were.
 	if (standstillCheck && StandstillCheck::stillThere(best.pose, r.predicted)) return std::nullopt;
-	const TrackingState verdict = m_tracker->judge(r.info, r.undecided, motion.time, [&] {
-		return m_grid->unexploredFraction(pts.hits, r.predicted);
+	// On a fixed map, space no scan observed is off the map: the robot cannot be "on new ground"
+	// there (nothing would be inserted), only lost.
+	TrackingState verdict = m_tracker->judge(r.info, r.undecided, motion.time, [&] {
+		return mapUpdating() ? m_grid->unexploredFraction(pts.hits, r.predicted) : 0.0;
 	});
+	if (verdict == TrackingState::Tracking && crossesWalls(pts, best.pose))
+	{
+		verdict = TrackingState::Lost;
+		++m_crossedWalls;
+	}
 	if (verdict != TrackingState::Tracking)
 	{
 		if (r.undecided && !m_rivals->empty()) r.pose = best.pose;	// the leading look-alike, for now
@@ -290,6 +301,28 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 	m_lastHits = pts.hits;	// for getCurrentPoseEstimation()
 	return verdict;
 }
+
+bool PerfectMatchSlam::crossesWalls(const ScanPoints& pts, const mrpt::math::TPose2D& pose) const
+{
+	// D47. Only a fixed map is trusted to say where walls are: a map being built may still hold a
+	// wall the scans are about to see through (a door that opened), and its walls came from the
+	// very poses being judged.
+	if (mapUpdating()) return false;
+	return m_grid->crossedWallFraction(pts, pose, kWallCrossingMargin) > kMaxWallCrossing;
+}
+
+void PerfectMatchSlam::placeAt(const mrpt::math::TPose2D& pose)
+{
+	std::lock_guard<std::mutex> lock(mapMutex());
+	m_pose = m_last.pose = pose;
+	m_gate.emplace(gateOptions(PM_options), m_pose);
+	m_rivals->clear();
+	++m_placed;
+}
+
+double PerfectMatchSlam::untrackedFor(double now) const { return m_tracker->lostFor(now); }
+
+bool PerfectMatchSlam::lost() const { return m_tracker->lost(); }
 
 void PerfectMatchSlam::insertKeyframe(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPoints& pts,
 									  double now, ScanResult& r)

@@ -8,6 +8,11 @@ double Tracker::sinceAccepted(double now) const
 	return std::isfinite(now - m_lastAcceptedTime) ? now - m_lastAcceptedTime : 0.0;
 }
 
+double Tracker::lostFor(double now) const
+{
+	return m_gaps.empty() || !m_gaps.back().open ? 0.0 : now - m_gaps.back().from;
+}
+
 bool Tracker::acceptable(const PerfectMatchMatcher::MatchInfo& info) const
 {
 	if (info.goodness >= m_options.minGoodness) return true;
@@ -25,8 +30,7 @@ TrackingState Tracker::judge(const PerfectMatchMatcher::MatchInfo& info, bool un
 	// matched, so the scan goes in at the odometry pose and the map grows from there on. A scan
 	// over mapped space that does not match (the prediction is off) keeps being rejected instead
 	// of corrupting the map.
-	const double lostFor = m_gaps.empty() || !m_gaps.back().open ? 0.0 : now - m_gaps.back().from;
-	if (m_options.newGroundUnexplored > 0 && lostFor >= m_options.newGroundAfter &&
+	if (m_options.newGroundUnexplored > 0 && lostFor(now) >= m_options.newGroundAfter &&
 		unexploredFraction() >= m_options.newGroundUnexplored)
 		return TrackingState::NewGround;
 	return undecided ? TrackingState::Ambiguous : TrackingState::Lost;

@@ -128,6 +128,11 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	 * than `margin` (m) from any obstacle: returns where the map saw nothing (a person, or a wrong pose). */
 	double inFreeSpaceFraction(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose,
 							   double margin) const;
+	/** The fraction of the beams of `scan` seen from `pose` that pass through an obstacle cell before
+	 * they end (each beam cut `margin` m short of its endpoint, so that the wall it hit does not
+	 * count): a pose whose beams cross the map's walls cannot be where the scan was taken, however
+	 * well its endpoints fit. Beams shorter than the margin are not counted; 0 without any. */
+	double crossedWallFraction(const ScanPoints& scan, const mrpt::math::TPose2D& pose, double margin) const;
 	/** The points (robot frame) that say something about a pose near `pose`: all but those that
 	 * land in unexplored space more than two cells from any obstacle. Beyond the end of a mapped
 	 * wall the distance map still pulls a point back towards the wall's end; along a corridor

@@ -221,6 +221,18 @@ class PerfectMatchSlam
 	std::size_t wideSearches() const { return m_wideSearches; }
 	std::size_t relocalizations() const { return m_relocalizations; }
 	std::size_t reanchorings() const { return m_reanchored; }
+	/** On a fixed map: matches rejected because their beams crossed the map's walls (D47). */
+	std::size_t wallCrossings() const { return m_crossedWalls; }
+	/** Times placeAt() moved the robot. */
+	std::size_t placements() const { return m_placed; }
+
+	/** The robot is at `pose` now, as something other than the tracker found (a global search on
+	 * a fixed map after tracking was lost): the next scan is predicted from there. */
+	void placeAt(const mrpt::math::TPose2D& pose);
+	/** Seconds of log from the last accepted match to `now` while tracking is lost; 0 while tracking. */
+	double untrackedFor(double now) const;
+	/** No match accepted since the last rejected one (or since the start). */
+	bool lost() const;
 
 	/** A stretch of the log where no match was accepted (see Tracker.h). */
 	using TrackingGap = pmslam::TrackingGap;
@@ -259,7 +271,7 @@ class PerfectMatchSlam
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	bool m_mapEmpty = true;
 	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0, m_ambiguous = 0;
-	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0;
+	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0, m_crossedWalls = 0, m_placed = 0;
 	ScanResult m_last;
 	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
@@ -270,6 +282,7 @@ class PerfectMatchSlam
 	// The steps of processScan().
 	MotionPrediction predict(const mrpt::obs::CObservation2DRangeScan& scan,
 							 const std::optional<mrpt::math::TPose2D>& odometryAtScan);
+	bool crossesWalls(const ScanPoints& pts, const mrpt::math::TPose2D& pose) const;
 	Hypothesis searchOrFollowRivals(const ScanPoints& pts, const ScanResult& r, const SearchWindow& window);
 	std::optional<TrackingState> matchScan(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPoints& pts,
 										   const MotionPrediction& motion, const SearchWindow& window,
