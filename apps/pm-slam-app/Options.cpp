@@ -40,7 +40,11 @@ options (before or after LOG; an option's value may also follow it after '=': --
                           .gridmap[.gz] or .simplemap[.gz], or a pm-slam-app output folder; writes
                           trajectory.txt, timing.txt and map.png (the fixed map with the path). Without
                           --initial-pose the start is searched over the whole map from the first scans
-  --initial-pose X,Y,YAW_DEG  start pose on the --localize map (m, m, degrees), if known
+  --continue DIR          continue the map of an earlier run's output folder DIR (never modified): the start
+                          is searched on DIR's map, the map and loops grow on, and --out holds the map, the
+                          pose graph and the trajectory of every session so far (trajectory.txt's header
+                          says which poses are which session)
+  --initial-pose X,Y,YAW_DEG  start pose on the --localize or --continue map (m, m, degrees), if known
   --gui                   live view of map, scan and trajectory (needs a display); at the end the final map
                           stays shown until the window is closed or a key is pressed in it
   --progress / --no-progress  force the progress line on or off (default: on when stderr is a terminal)
@@ -138,6 +142,7 @@ bool takeOption(const std::string& s, Words& w, Options& a, bool& initialPoseGiv
 	else if (s == "--out") a.out = w.value(s), a.outGiven = true;
 	else if (s == "--max-scans") a.maxScans = w.wholeNumber(s, 0);
 	else if (s == "--localize") a.localize = w.value(s);
+	else if (s == "--continue") a.continueFrom = w.value(s);
 	else if (s == "--initial-pose") a.initialPose = w.pose(s), initialPoseGiven = true;
 	else if (s == "--max-untracked") a.maxUntracked = w.seconds(s);
 	else if (s == "--live") a.live = w.value(s);
@@ -159,7 +164,10 @@ bool takeOption(const std::string& s, Words& w, Options& a, bool& initialPoseGiv
 void checkCombination(Options& a, std::vector<std::string> positional, bool initialPoseGiven)
 {
 	if (positional.size() > 1) usageError("expected one LOG, got " + std::to_string(positional.size()));
-	if (initialPoseGiven && a.localize.empty()) usageError("--initial-pose needs --localize MAP");
+	if (initialPoseGiven && a.localize.empty() && a.continueFrom.empty())
+		usageError("--initial-pose needs --localize MAP or --continue DIR");
+	if (!a.localize.empty() && !a.continueFrom.empty())
+		usageError("--localize and --continue exclude each other: localise on a map, or continue it");
 	if (!a.live.empty() && !a.follow.empty()) usageError("--live and --follow exclude each other");
 	if ((!a.live.empty() || !a.follow.empty()) && !positional.empty())
 		usageError(std::string(a.live.empty() ? "--follow" : "--live") + " takes the place of LOG: give one or the other");
@@ -179,7 +187,7 @@ Options parseOptions(int argc, char** argv)
 	std::vector<std::string> positional;
 	bool initialPoseGiven = false;
 	Words w(splitOptionValues(argc, argv,
-							  {"--config", "--set", "--out", "--max-scans", "--localize", "--initial-pose",
+							  {"--config", "--set", "--out", "--max-scans", "--localize", "--continue", "--initial-pose",
 							   "--max-untracked", "--live", "--follow", "--follow-timeout", "--record",
 							   "--snapshot-every", "--connect-timeout", "--max-pending"}));
 	while (w.next())

@@ -16,6 +16,7 @@ struct Options
 	std::vector<std::string> sets;
 	std::size_t maxScans = 0;
 	std::string localize;  // fixed map to localise on (empty: SLAM)
+	std::string continueFrom;  // session folder whose map this run continues (empty: a new map)
 	mrpt::math::TPose2D initialPose{0, 0, 0};
 	bool initialPoseGiven = false;	// else --localize searches the whole map for the start
 	bool gui = false, quiet = false;
@@ -28,6 +29,7 @@ struct Options
 
 	bool isLive() const { return !live.empty(); }
 	bool localizing() const { return !localize.empty(); }
+	bool continuing() const { return !continueFrom.empty(); }
 	/** --live and --follow end with Ctrl-C (or SIGTERM): their normal end, not an interruption. */
 	bool openEnded() const { return !live.empty() || !follow.empty(); }
 };

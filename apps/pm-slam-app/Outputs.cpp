@@ -2,6 +2,7 @@
 #include "Outputs.h"
 
 #include <pmslam/io/MapExport.h>
+#include <pmslam/io/Session.h>
 
 #include <filesystem>
 
@@ -12,7 +13,7 @@ const std::vector<std::string>& allOutputNames()
 	// pose.txt: --snapshot-every's newest pose.
 	static const std::vector<std::string> names = {"trajectory.txt", "trajectory_online.txt", "graph.graph", "timing.txt",
 												   "map.png",		 "map.pgm",				  "map.yaml",	 "map.gridmap.gz",
-												   "map.simplemap.gz", "pose.txt"};
+												   "map.simplemap.gz", "pose.txt", "session.ini"};
 	return names;
 }
 
@@ -20,24 +21,42 @@ std::vector<std::string> finalOutputNames(bool localizing, bool loopClosure)
 {
 	std::vector<std::string> names = {"trajectory.txt", "timing.txt", "map.png"};
 	if (!localizing)
-		names.insert(names.end(), {"trajectory_online.txt", "map.pgm", "map.yaml", "map.gridmap.gz", "map.simplemap.gz"});
+		names.insert(names.end(), {"trajectory_online.txt", "map.pgm", "map.yaml", "map.gridmap.gz", "map.simplemap.gz",
+								   "session.ini"});
 	if (loopClosure) names.push_back("graph.graph");
 	return names;
 }
 
+namespace
+{
+/** A mapping run's poses after those of the sessions it continued (if any). */
+pmslam::Trajectory everySession(const SlamRun& run, const pmslam::Trajectory& own)
+{
+	if (!run.session()) return own;
+	pmslam::Trajectory all = run.session()->trajectory;
+	all.insert(all.end(), own.begin(), own.end());
+	return all;
+}
+}  // namespace
+
 void writeOutputs(const std::string& dir, const SlamRun& run, const pmslam::Trajectory& online, const TimingLog& timing,
-				  const std::string& header, bool localizing)
+				  const std::string& header, bool localizing, const std::string& log)
 {
 	namespace fs = std::filesystem;
 	const auto at = [&](const char* name) { return (fs::path(dir) / name).string(); };
 	const auto& slam = run.slam();
 	const auto& traj = run.trajectory();
-	pmslam::saveTrajectory(at("trajectory.txt"), traj,
-						   header + "\nposes of the robot base in the map frame (m, m, rad)" +
+	std::vector<pmslam::SessionPart> parts;
+	if (run.session()) parts = run.session()->parts;
+	parts.push_back({log, traj.size()});
+	const std::string sessions = localizing ? "" : "\n" + pmslam::sessionPartsComment(parts);
+	pmslam::saveTrajectory(at("trajectory.txt"), everySession(run, traj),
+						   header + sessions + "\nposes of the robot base in the map frame (m, m, rad)" +
 							   (slam.loopClosure() ? ", after loop closure (the final pose graph)" : ""));
 	if (!localizing)
-		pmslam::saveTrajectory(at("trajectory_online.txt"), online,
-							   header + "\neach pose as known when its scan was processed (before later loop closures)");
+		pmslam::saveTrajectory(at("trajectory_online.txt"), everySession(run, online),
+							   header + sessions +
+								   "\neach pose as known when its scan was processed (before later loop closures)");
 	if (slam.loopClosure()) slam.loopClosure()->graph().writeGraphFile(at("graph.graph"));
 	timing.write(at("timing.txt"), header);
 	const auto& grid = slam.grid();
@@ -46,6 +65,7 @@ void writeOutputs(const std::string& dir, const SlamRun& run, const pmslam::Traj
 	pmslam::saveMapPgmYaml(grid, at("map.pgm"), at("map.yaml"));
 	pmslam::saveGridMapGz(grid, at("map.gridmap.gz"));
 	slam.saveSimpleMapGz(at("map.simplemap.gz"));
+	pmslam::saveSessionIndex(dir, grid.updateOptions().resolution, parts);	// last: the session is complete
 }
 
 }  // namespace pmslam_app

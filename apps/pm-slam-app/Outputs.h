@@ -19,8 +19,9 @@ const std::vector<std::string>& allOutputNames();
  * prior one) and no online trajectory; without loop closure there is no graph. */
 std::vector<std::string> finalOutputNames(bool localizing, bool loopClosure);
 
-/** Writes them into `dir`, `header` first in each text file. Throws on failure. */
+/** Writes them into `dir`, `header` first in each text file; a mapping run also its session (session.ini, in
+ * which `log` names this run's part, after the parts of a session it continued). Throws on failure. */
 void writeOutputs(const std::string& dir, const SlamRun& run, const pmslam::Trajectory& online, const TimingLog& timing,
-				  const std::string& header, bool localizing);
+				  const std::string& header, bool localizing, const std::string& log);
 
 }  // namespace pmslam_app

@@ -3,6 +3,7 @@
 
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
 
 #include <cmath>
 
@@ -44,8 +45,26 @@ bool SlamRun::offerForStart(const pmslam::LogEvent& ev)
 		return false;
 	}
 	if (m_start->addScan(*ev.scan, m_startOdometry.forScan(ev)) != pmslam::GlobalLocalizer::State::Found) return false;
-	localize(*m_startMap, m_start->best()->origin);
+	if (m_session)
+		startSession(m_start->best()->origin);
+	else
+		localize(*m_startMap, m_start->best()->origin);
 	return true;
+}
+
+void SlamRun::continueSession(const pmslam::Session& session, const std::optional<mrpt::math::TPose2D>& hint)
+{
+	m_session = &session;
+	if (hint)
+		startSession(*hint);
+	else
+		findStart(session.grid);
+}
+
+void SlamRun::startSession(const mrpt::math::TPose2D& start)
+{
+	const mrpt::poses::CPosePDFGaussian x0{mrpt::poses::CPose2D(start)};
+	m_slam.initialize(m_session->keyframes, &x0);
 }
 
 const pmslam::PerfectMatchSlam::ScanResult* SlamRun::process(const pmslam::LogEvent& ev)

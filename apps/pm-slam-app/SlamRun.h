@@ -4,6 +4,7 @@
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <pmslam/io/LogReader.h>
+#include <pmslam/io/Session.h>
 #include <pmslam/io/Trajectory.h>
 #include <pmslam/slam/GlobalLocalizer.h>
 #include <pmslam/slam/OdometrySelector.h>
@@ -27,6 +28,11 @@ class SlamRun
 	/** --localize without --initial-pose: the start is searched on `map` (GlobalLocalizer) from the
 	 * first scans, which offerForStart() takes until it is found. */
 	void findStart(const mrpt::maps::COccupancyGridMap2D& map);
+	/** --continue: maps on from `session`'s map (never changed), starting at `hint` or, without one, where a
+	 * whole-map search on it finds the first scans (as findStart()). `session` must outlive the run. */
+	void continueSession(const pmslam::Session& session, const std::optional<mrpt::math::TPose2D>& hint);
+	/** The session continued, if any. */
+	const pmslam::Session* session() const { return m_session; }
 	bool findingStart() const { return m_start && m_start->state() == pmslam::GlobalLocalizer::State::Searching; }
 	/** One event while findingStart(): true when it decided the start, and the tracker now starts
 	 * there (the events offered so far are to be processed again, from the first). */
@@ -56,6 +62,8 @@ class SlamRun
 	LoopLinks loopLinks() const;
 
    private:
+	/** The continued session's keyframes in the map, the robot at `start`. */
+	void startSession(const mrpt::math::TPose2D& start);
 	/** Localising: a whole-map search once tracking was lost long enough (D47). */
 	void searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry);
 	void placeWhereFound(double now);
@@ -69,6 +77,7 @@ class SlamRun
 	const mrpt::maps::COccupancyGridMap2D* m_startMap = nullptr;
 	pmslam::OdometrySelector m_startOdometry;  // its own: the events are offered again to m_odometry after
 	const mrpt::maps::COccupancyGridMap2D* m_prior = nullptr;  // the fixed map, while localising
+	const pmslam::Session* m_session = nullptr;	 // the session continued
 	std::unique_ptr<pmslam::GlobalLocalizer> m_research;	// the search for a robot lost while localising
 	// The scans since tracking was lost (with their odometry), the first m_offered of them given to m_research.
 	std::vector<std::pair<pmslam::LogEvent, std::optional<mrpt::math::TPose2D>>> m_lost;

@@ -9,10 +9,13 @@
  */
 #include <pmslam/io/MapExport.h>
 #include <pmslam/io/PriorMap.h>
+#include <pmslam/io/Session.h>
 #include <pmslam/slam/SlamConfig.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -68,10 +71,39 @@ std::uint64_t bytesNeeded(const pmslam::LogReader& reader)
 	std::_Exit(status);
 }
 
+/** --continue DIR: its session, which must be another folder than --out and have the configured map
+ * resolution. False when not (said on stderr). */
+bool loadSessionToContinue(const Options& o, const pmslam::SlamConfig& cfg, pmslam::Session& session)
+{
+	std::error_code ec;
+	if (std::filesystem::equivalent(o.continueFrom, o.out, ec))
+	{
+		say("--continue " + o.continueFrom + " is never modified: give another --out");
+		return false;
+	}
+	try
+	{
+		session = pmslam::loadSession(o.continueFrom);
+	}
+	catch (const std::exception& e)
+	{
+		say("--continue " + withoutLibraryPrefix(e.what()));
+		return false;
+	}
+	if (std::abs(session.resolution - cfg.mapping.grid.resolution) > 1e-9)
+	{
+		say("--continue " + o.continueFrom + ": its map is at " + std::to_string(session.resolution) +
+			" m per cell, the configuration asks for " + std::to_string(cfg.mapping.grid.resolution) +
+			" ([MappingApplication] resolution must stay the same)");
+		return false;
+	}
+	return true;
+}
+
 /** The input and the prior map, then --out: a bad input must not leave an empty folder behind. False
  * when one of them is bad (said on stderr). */
 bool openInputAndOutput(const Options& o, const pmslam::SlamConfig& cfg, Input& input,
-						mrpt::maps::COccupancyGridMap2D& priorMap, OutputFolder& folder)
+						mrpt::maps::COccupancyGridMap2D& priorMap, pmslam::Session& session, OutputFolder& folder)
 {
 	try
 	{
@@ -92,6 +124,7 @@ bool openInputAndOutput(const Options& o, const pmslam::SlamConfig& cfg, Input& 
 		say("--localize " + withoutLibraryPrefix(e.what()));
 		return false;
 	}
+	if (o.continuing() && !loadSessionToContinue(o, cfg, session)) return false;
 	try
 	{
 		folder.prepare(bytesNeeded(input.reader()));
@@ -162,9 +195,10 @@ bool finishOutputs(const Options& o, const SlamRun& run, const pmslam::Trajector
 	std::ostringstream header;
 	header << "pm-slam-app " << o.log << " (" << scans << " scans)";
 	if (o.localizing()) header << " localised on " << o.localize;
+	if (o.continuing()) header << " continuing " << o.continueFrom;
 	try
 	{
-		writeOutputs(o.out, run, online, obs.timing, header.str(), o.localizing());
+		writeOutputs(o.out, run, online, obs.timing, header.str(), o.localizing(), o.log);
 	}
 	catch (const std::exception& e)
 	{
@@ -173,7 +207,7 @@ bool finishOutputs(const Options& o, const SlamRun& run, const pmslam::Trajector
 	}
 	auto written = finalOutputNames(o.localizing(), run.slam().loopClosure() != nullptr);
 	if (obs.snapshots.written()) written.push_back("pose.txt");
-	folder.removeStale(written, {o.localize, o.log, o.config});
+	folder.removeStale(written, {o.localize, o.continueFrom, o.log, o.config});
 	if (interrupted || end.failed) say("wrote the map and the trajectory of " + scans + " scans to " + o.out);
 	return true;
 }
@@ -189,8 +223,9 @@ int main(int argc, char** argv)
 
 	Input input;
 	mrpt::maps::COccupancyGridMap2D priorMap;
+	pmslam::Session session;
 	OutputFolder folder(options.out);
-	if (!openInputAndOutput(options, cfg, input, priorMap, folder)) return 2;
+	if (!openInputAndOutput(options, cfg, input, priorMap, session, folder)) return 2;
 
 	const bool showProgress = options.progress == 1 || (options.progress == -1 && isatty(STDERR_FILENO) && !options.quiet);
 	pmslam::ProgressLine progress(showProgress, input.reader().estimatedScanCount());
@@ -200,10 +235,13 @@ int main(int argc, char** argv)
 	{
 		if (options.localizing() && options.initialPoseGiven) run.localize(priorMap, options.initialPose);
 		if (options.localizing() && !options.initialPoseGiven) run.findStart(priorMap);
+		if (options.continuing())
+			run.continueSession(session, options.initialPoseGiven ? std::optional(options.initialPose) : std::nullopt);
 	}
 	catch (const std::exception& e)
 	{
-		say("--localize " + options.localize + ": " + withoutLibraryPrefix(e.what()));
+		say((options.continuing() ? "--continue " + options.continueFrom : "--localize " + options.localize) + ": " +
+			withoutLibraryPrefix(e.what()));
 		folder.abandon();
 		return 2;
 	}

@@ -1,0 +1,150 @@
+// Sessions (pm-slam-app --continue DIR): a map made in one run, continued by another from a start the
+// second run does not know, comes out as one map and one trajectory in one frame, as good as one run
+// of the whole log; DIR is never modified; a damaged, foreign or newer session is a one-line error.
+#include <gtest/gtest.h>
+#include <mrpt/poses/CPose2D.h>
+#include <pmslam/io/Session.h>
+#include <pmslam/io/Trajectory.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+
+#include "RunProgram.h"
+#include "SyntheticLogs.h"
+
+namespace fs = std::filesystem;
+using mrpt::math::TPose2D;
+using mrpt::poses::CPose2D;
+using pmslam::testing::quote;
+using pmslam::testing::run;
+
+namespace
+{
+const std::string kApp = PMSLAM_BINARY_DIR "/bin/pm-slam-app";
+
+/** A drive through the furnished room, its odometry drifting; cut at `cut` into two logs (with a 30 s
+ * gap between them), the second with its odometry restarted elsewhere (a robot switched on again). */
+struct CutLog
+{
+	std::vector<TPose2D> truth = pmslam::testing::roomPath(160);
+	std::size_t cut = 80;
+	std::string whole, first, second;
+	explicit CutLog(const pmslam::testing::ScratchDir& dir)
+	{
+		const auto world = pmslam::testing::furnishedRoom();
+		const auto odo = pmslam::testing::driftingOdometry(truth, 1.02, 0.02);
+		pmslam::testing::CarmenLogSpec spec;
+		whole = dir.write("whole.clf", pmslam::testing::carmenLog(world, truth, odo, spec));
+		const std::vector<TPose2D> t1(truth.begin(), truth.begin() + long(cut)), o1(odo.begin(), odo.begin() + long(cut));
+		first = dir.write("first.clf", pmslam::testing::carmenLog(world, t1, o1, spec));
+		const std::vector<TPose2D> t2(truth.begin() + long(cut), truth.end());
+		const auto o2 = pmslam::testing::driftingOdometry(t2, 1.02, 0.02, CPose2D(7, -3, 1.2));
+		spec.t0 += spec.dt * double(cut) + 30;
+		second = dir.write("second.clf", pmslam::testing::carmenLog(world, t2, o2, spec));
+	}
+	/** Mean and max distance of each pose from the truth, in the frame of the first pose. */
+	std::pair<double, double> error(const pmslam::Trajectory& t) const
+	{
+		double sum = 0, worst = 0;
+		for (std::size_t k = 0; k < truth.size(); ++k)
+		{
+			const TPose2D r = pmslam::testing::relativeToFirst(truth, k);
+			const double d = std::hypot(t[k].x - r.x, t[k].y - r.y);
+			sum += d;
+			worst = std::max(worst, d);
+		}
+		return {sum / double(truth.size()), worst};
+	}
+};
+
+std::map<std::string, std::string> contents(const std::string& dir)
+{
+	std::map<std::string, std::string> out;
+	for (const auto& e : fs::directory_iterator(dir)) out[e.path().filename().string()] = pmslam::testing::readText(e.path());
+	return out;
+}
+}  // namespace
+
+// The log cut in two and mapped as two sessions: every scan of both in one trajectory, as close to the
+// truth as one run of the whole log; the second session's start found on the first one's map.
+TEST(Sessions, ALogCutInTwoMapsAsWellAsOneRun)
+{
+	pmslam::testing::ScratchDir dir("sessions");
+	const CutLog log(dir);
+	auto r = run(quote(kApp) + " --quiet --out " + quote(dir.path("one")) + " " + quote(log.whole));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	r = run(quote(kApp) + " --quiet --out " + quote(dir.path("a")) + " " + quote(log.first));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const auto before = contents(dir.path("a"));
+	r = run(quote(kApp) + " --continue " + quote(dir.path("a")) + " --out " + quote(dir.path("ab")) + " " +
+			quote(log.second));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("global localisation: start found at"), std::string::npos) << r.output;
+	EXPECT_EQ(contents(dir.path("a")), before) << "--continue changed its folder";
+
+	const auto one = pmslam::loadTrajectory(dir.path("one") + "/trajectory.txt");
+	const auto two = pmslam::loadTrajectory(dir.path("ab") + "/trajectory.txt");
+	ASSERT_EQ(one.size(), log.truth.size());
+	ASSERT_EQ(two.size(), log.truth.size());
+	const auto [oneMean, oneMax] = log.error(one);
+	const auto [twoMean, twoMax] = log.error(two);
+	EXPECT_LT(twoMean, 1.1 * oneMean + 0.005) << "one run " << oneMean;
+	EXPECT_LT(twoMax, 0.05);
+	// The header says which poses are which session, and session.ini lists both parts.
+	const std::string text = pmslam::testing::readText(dir.path("ab") + "/trajectory.txt");
+	EXPECT_NE(text.find("sessions: 1 = poses 1-80 (" + log.first + "), 2 = poses 81-160 (" + log.second + ")"),
+			  std::string::npos)
+		<< text.substr(0, 400);
+	const pmslam::Session s = pmslam::loadSession(dir.path("ab"));
+	ASSERT_EQ(s.parts.size(), 2u);
+	EXPECT_EQ(s.parts[1].log, log.second);
+	EXPECT_EQ(s.parts[1].scans, 80u);
+
+	// A third session on the two: three parts, and an older folder without session.ini reads as one part.
+	fs::remove(dir.path("a") + "/session.ini");
+	r = run(quote(kApp) + " --quiet --continue " + quote(dir.path("a")) + " --initial-pose=" +
+			pmslam::testing::fmt(two[80].x) + "," + pmslam::testing::fmt(two[80].y) + "," +
+			pmslam::testing::fmt(two[80].yaw * 180 / M_PI) + " --out " + quote(dir.path("ab2")) + " " + quote(log.second));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(pmslam::testing::readText(dir.path("ab2") + "/trajectory.txt").find("1 = poses 1-80 (log unknown)"),
+			  std::string::npos);
+	EXPECT_LT(log.error(pmslam::loadTrajectory(dir.path("ab2") + "/trajectory.txt")).second, 0.05);
+}
+
+// What cannot be continued is said in one line naming the file, exit status 2, and nothing is written.
+TEST(Sessions, WhatCannotBeContinuedIsAOneLineError)
+{
+	pmslam::testing::ScratchDir dir("sessions-bad");
+	const CutLog log(dir);
+	ASSERT_EQ(run(quote(kApp) + " --quiet --out " + quote(dir.path("a")) + " " + quote(log.first)).exitCode, 0);
+	const auto tryContinue = [&](const std::string& from, const std::string& expected) {
+		const auto r = run(quote(kApp) + " --quiet --continue " + quote(from) + " --out " + quote(dir.path("out")) +
+						   " " + quote(log.second));
+		EXPECT_EQ(r.exitCode, 2) << r.output;
+		EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+		EXPECT_FALSE(fs::exists(dir.path("out") + "/trajectory.txt")) << from;
+	};
+	tryContinue(dir.path("nowhere"), "not a folder");
+	// Into itself: the session continued is never modified.
+	const auto r = run(quote(kApp) + " --quiet --continue " + quote(dir.path("a")) + " --out " + quote(dir.path("a")) +
+					   " " + quote(log.second));
+	EXPECT_EQ(r.exitCode, 2);
+	EXPECT_NE(r.output.find("is never modified: give another --out"), std::string::npos) << r.output;
+	// A newer format, parts that do not add up, a damaged simple map, another resolution.
+	fs::copy(dir.path("a"), dir.path("newer"));
+	std::string ini = pmslam::testing::readText(dir.path("a") + "/session.ini");
+	dir.write("newer/session.ini", std::regex_replace(ini, std::regex("format = 1"), "format = 7"));
+	tryContinue(dir.path("newer"), "format 7 is newer than this pmslam reads (1)");
+	fs::copy(dir.path("a"), dir.path("short"));
+	dir.write("short/session.ini", std::regex_replace(ini, std::regex("scans = 80"), "scans = 79"));
+	tryContinue(dir.path("short"), "its parts have 79 scans, trajectory.txt 80");
+	fs::copy(dir.path("a"), dir.path("damaged"));
+	dir.write("damaged/map.simplemap.gz", "not a simple map");
+	tryContinue(dir.path("damaged"), "damaged/map.simplemap.gz: not an MRPT simple map");
+	fs::copy(dir.path("a"), dir.path("coarse"));
+	dir.write("coarse/session.ini", std::regex_replace(ini, std::regex("resolution = 0.05"), "resolution = 0.1"));
+	tryContinue(dir.path("coarse"), "its map is at 0.100000 m per cell");
+}
