@@ -2,7 +2,7 @@
 #include "Outputs.h"
 
 #include <pmslam/io/MapExport.h>
-#include <pmslam/io/Session.h>
+#include <pmslam/slam/Session.h>
 
 #include <filesystem>
 
@@ -33,7 +33,7 @@ namespace
 pmslam::Trajectory everySession(const SlamRun& run, const pmslam::Trajectory& own)
 {
 	if (!run.session()) return own;
-	pmslam::Trajectory all = run.session()->trajectory;
+	pmslam::Trajectory all = run.earlierSessions();
 	all.insert(all.end(), own.begin(), own.end());
 	return all;
 }
@@ -48,7 +48,7 @@ void writeOutputs(const std::string& dir, const SlamRun& run, const pmslam::Traj
 	const auto& traj = run.trajectory();
 	std::vector<pmslam::SessionPart> parts;
 	if (run.session()) parts = run.session()->parts;
-	parts.push_back({log, traj.size()});
+	parts.push_back({log, traj.size(), slam.scansInserted()});
 	const std::string sessions = localizing ? "" : "\n" + pmslam::sessionPartsComment(parts);
 	pmslam::saveTrajectory(at("trajectory.txt"), everySession(run, traj),
 						   header + sessions + "\nposes of the robot base in the map frame (m, m, rad)" +

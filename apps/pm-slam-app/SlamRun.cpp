@@ -63,8 +63,28 @@ void SlamRun::continueSession(const pmslam::Session& session, const std::optiona
 
 void SlamRun::startSession(const mrpt::math::TPose2D& start)
 {
-	const mrpt::poses::CPosePDFGaussian x0{mrpt::poses::CPose2D(start)};
-	m_slam.initialize(m_session->keyframes, &x0);
+	m_slam.continueSession(m_session->keyframes, m_session->graph ? &*m_session->graph : nullptr, start);
+}
+
+pmslam::Trajectory SlamRun::earlierSessions() const
+{
+	// Each part's poses moved with the keyframes of that part, as the joint graph moved them.
+	if (!m_session) return {};
+	pmslam::Trajectory out = m_session->trajectory;
+	std::size_t line = 0, keyframe = 0;
+	for (const auto& part : m_session->parts)
+	{
+		std::vector<mrpt::math::TPose2D> poses;
+		std::vector<double> times;
+		for (std::size_t i = line; i < line + part.scans; ++i)
+			poses.emplace_back(out[i].x, out[i].y, out[i].yaw), times.push_back(out[i].timestamp);
+		poses = m_slam.correctedPriorPoses(poses, times, keyframe, part.keyframes);
+		for (std::size_t i = 0; i < poses.size(); ++i)
+			out[line + i].x = poses[i].x, out[line + i].y = poses[i].y, out[line + i].yaw = poses[i].phi;
+		line += part.scans;
+		keyframe += part.keyframes;
+	}
+	return out;
 }
 
 const pmslam::PerfectMatchSlam::ScanResult* SlamRun::process(const pmslam::LogEvent& ev)

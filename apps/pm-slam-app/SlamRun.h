@@ -4,7 +4,7 @@
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <pmslam/io/LogReader.h>
-#include <pmslam/io/Session.h>
+#include <pmslam/slam/Session.h>
 #include <pmslam/io/Trajectory.h>
 #include <pmslam/slam/GlobalLocalizer.h>
 #include <pmslam/slam/OdometrySelector.h>
@@ -33,6 +33,9 @@ class SlamRun
 	void continueSession(const pmslam::Session& session, const std::optional<mrpt::math::TPose2D>& hint);
 	/** The session continued, if any. */
 	const pmslam::Session* session() const { return m_session; }
+	/** Its trajectory (every earlier part), each pose moved with its keyframe as the graph of both
+	 * sessions moved it (final after finish()); empty without a session. */
+	pmslam::Trajectory earlierSessions() const;
 	bool findingStart() const { return m_start && m_start->state() == pmslam::GlobalLocalizer::State::Searching; }
 	/** One event while findingStart(): true when it decided the start, and the tracker now starts
 	 * there (the events offered so far are to be processed again, from the first). */

@@ -9,7 +9,7 @@
  */
 #include <pmslam/io/MapExport.h>
 #include <pmslam/io/PriorMap.h>
-#include <pmslam/io/Session.h>
+#include <pmslam/slam/Session.h>
 #include <pmslam/slam/SlamConfig.h>
 #include <unistd.h>
 

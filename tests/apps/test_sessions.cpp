@@ -3,7 +3,7 @@
 // of the whole log; DIR is never modified; a damaged, foreign or newer session is a one-line error.
 #include <gtest/gtest.h>
 #include <mrpt/poses/CPose2D.h>
-#include <pmslam/io/Session.h>
+#include <pmslam/slam/Session.h>
 #include <pmslam/io/Trajectory.h>
 
 #include <cmath>
@@ -103,7 +103,18 @@ TEST(Sessions, ALogCutInTwoMapsAsWellAsOneRun)
 	EXPECT_EQ(s.parts[1].log, log.second);
 	EXPECT_EQ(s.parts[1].scans, 80u);
 
-	// A third session on the two: three parts, and an older folder without session.ini reads as one part.
+	// A third session on the two: three parts in one graph (a node per keyframe of each).
+	r = run(quote(kApp) + " --quiet --continue " + quote(dir.path("ab")) + " --out " + quote(dir.path("abb")) + " " +
+			quote(log.second));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const pmslam::Session three = pmslam::loadSession(dir.path("abb"));
+	ASSERT_EQ(three.parts.size(), 3u);
+	ASSERT_TRUE(three.graph);
+	EXPECT_EQ(three.graph->nodeCount(), three.keyframes.size());
+	EXPECT_EQ(three.trajectory.size(), 240u);
+	EXPECT_LT(log.error(three.trajectory).second, 0.05);
+
+	// An older folder without session.ini reads as one part.
 	fs::remove(dir.path("a") + "/session.ini");
 	r = run(quote(kApp) + " --quiet --continue " + quote(dir.path("a")) + " --initial-pose=" +
 			pmslam::testing::fmt(two[80].x) + "," + pmslam::testing::fmt(two[80].y) + "," +
@@ -141,6 +152,9 @@ TEST(Sessions, WhatCannotBeContinuedIsAOneLineError)
 	fs::copy(dir.path("a"), dir.path("short"));
 	dir.write("short/session.ini", std::regex_replace(ini, std::regex("scans = 80"), "scans = 79"));
 	tryContinue(dir.path("short"), "its parts have 79 scans, trajectory.txt 80");
+	fs::copy(dir.path("a"), dir.path("graph"));
+	dir.write("graph/graph.graph", "VERTEX_SE2 0 0 0 0\n");
+	tryContinue(dir.path("graph"), "graph/graph.graph: 1 nodes for");
 	fs::copy(dir.path("a"), dir.path("damaged"));
 	dir.write("damaged/map.simplemap.gz", "not a simple map");
 	tryContinue(dir.path("damaged"), "damaged/map.simplemap.gz: not an MRPT simple map");

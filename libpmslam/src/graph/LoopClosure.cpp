@@ -77,6 +77,68 @@ LoopClosure::~LoopClosure()
 
 void LoopClosure::addFixedScan(const TPose2D& pose, ScanPoints scan) { m_fixed.emplace_back(pose, std::move(scan)); }
 
+namespace
+{
+float reachOf(const ScanPoints& scan)
+{
+	float reach = 0;
+	for (const auto* pts : {&scan.hits, &scan.freeEnds})
+		for (const auto& p : *pts) reach = std::max(reach, std::hypot(p.x, p.y));
+	return reach + static_cast<float>(std::hypot(scan.sensorOrigin.x, scan.sensorOrigin.y));
+}
+
+bool coversExactly(const PoseGraph* graph, std::size_t n)
+{
+	if (!graph || graph->nodeCount() != n) return false;
+	for (std::size_t i = 0; i < n; ++i)
+		if (!graph->hasNode(i)) return false;
+	return true;
+}
+}  // namespace
+
+void LoopClosure::addPriorKeyframes(std::vector<PriorKeyframe> keyframes, const PoseGraph* graph)
+{
+	if (!m_nodes.empty()) throw std::logic_error("LoopClosure::addPriorKeyframes: after addKeyframe()");
+	const bool withEdges = coversExactly(graph, keyframes.size());
+	for (std::size_t id = 0; id < keyframes.size(); ++id)
+	{
+		auto& k = keyframes[id];
+		double travel = 0;
+		m_graph.addNode(id, k.pose);
+		if (id > 0)
+		{
+			const TPose2D z = relativePose(m_nodes.back().mapPose, k.pose);
+			travel = m_nodes.back().travel + std::hypot(z.x, z.y);
+			if (!withEdges) m_graph.addEdge(id - 1, id, z, toMrpt(odometryInformation(z, 1.0)));
+		}
+		k.scan.hits.shrink_to_fit();
+		k.scan.freeEnds.shrink_to_fit();
+		const float reach = reachOf(k.scan);
+		m_nodes.push_back({travel, k.timestamp, std::make_shared<const ScanPoints>(std::move(k.scan)), k.pose, reach});
+		m_published.push_back(k.pose);
+	}
+	if (withEdges)
+		for (const auto& e : graph->edges())
+			if (!e.rejected) m_graph.addEdge(e.from, e.to, e.z, e.information, e.kind);
+	m_isRevisit.assign(m_graph.edgeCount(), false);
+	m_checkedEdges = m_graph.edgeCount();  // optimised already, in their own session
+	m_priorCount = m_nodes.size();
+	// The new session starts anchored: its start was found on these keyframes' map.
+	if (!m_nodes.empty()) m_lastAnchor = m_lastClosure = m_nodes.back().travel;
+}
+
+std::size_t LoopClosure::nearestNode(const TPose2D& pose) const
+{
+	std::size_t best = 0;
+	double bestD = std::numeric_limits<double>::infinity();
+	for (std::size_t i = 0; i < m_nodes.size(); ++i)
+	{
+		const double d = std::hypot(m_nodes[i].mapPose.x - pose.x, m_nodes[i].mapPose.y - pose.y);
+		if (d < bestD) best = i, bestD = d;
+	}
+	return best;
+}
+
 Eigen::Matrix3d LoopClosure::odometryInformation(const TPose2D& z, double scale) const
 {
 	const double sl = scale * (m_opts.odometrySigmaLinear + m_opts.odometrySigmaPerMeter * std::hypot(z.x, z.y));
@@ -114,19 +176,22 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 		m_graph.addNode(id, pose);
 	else
 	{
-		const Node& prev = m_nodes.back();
+		// The previous keyframe, or for a new session's first the nearest of the earlier session's.
+		const std::size_t from = id == m_priorCount ? nearestNode(pose) : id - 1;
+		const Node& prev = m_nodes[from];
 		const TPose2D z = relativePose(prev.mapPose, pose);
-		travel = prev.travel + std::hypot(z.x, z.y);
-		// Across lost tracking the front-end's relative pose is odometry alone: loose.
-		Eigen::Matrix3d info = odometryInformation(z, tracked ? 1.0 : 5.0);
+		travel = m_nodes.back().travel + (id == m_priorCount ? 0.0 : std::hypot(z.x, z.y));
+		// Across lost tracking the front-end's relative pose is odometry alone: loose. So is the tie of a
+		// new session to the earlier one, which only its match says.
+		Eigen::Matrix3d info = odometryInformation(z, tracked && id != m_priorCount ? 1.0 : 5.0);
 		if (tracked)
 		{
 			const Eigen::Matrix3d H = hessian.allFinite() ? hessian : Eigen::Matrix3d::Zero();
 			info += toEdgeFrame(H / m_opts.informationScale, prev.mapPose.phi);
 		}
 		// The initial guess follows the previous node where the graph has it.
-		m_graph.addNode(id, compose(m_graph.pose(id - 1), z));
-		m_graph.addEdge(id - 1, id, z, toMrpt(info));
+		m_graph.addNode(id, compose(m_graph.pose(from), z));
+		m_graph.addEdge(from, id, z, toMrpt(info));
 	}
 	// For bench/calibrate_information.py (through pm-slam-app-instrumented): each keyframe's time, pose
 	// and match curvature.
@@ -134,10 +199,7 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 	// Kept for the rest of the run: without the slack of the vectors they were built in.
 	scan.hits.shrink_to_fit();
 	scan.freeEnds.shrink_to_fit();
-	float reach = 0;
-	for (const auto* pts : {&scan.hits, &scan.freeEnds})
-		for (const auto& p : *pts) reach = std::max(reach, std::hypot(p.x, p.y));
-	reach += static_cast<float>(std::hypot(scan.sensorOrigin.x, scan.sensorOrigin.y));
+	const float reach = reachOf(scan);
 	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose, reach});
 	m_published.push_back(m_graph.pose(id));
 	// Whether this keyframe's match may make a revisit edge (linkRevisit). After lost tracking or a

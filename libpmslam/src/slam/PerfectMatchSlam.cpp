@@ -129,8 +129,19 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_loops.reset();
 	if (LC_options.enabled) m_loops = std::make_unique<LoopClosure>(LC_options, PM_params, PM_options.grid);
 	m_frames = FrameHistory();
+	m_priorPoses.clear();
+	m_priorTimes.clear();
 	// Re-insert a given map's keyframes at their stored poses.
-	for (const auto& [posePDF, sf] : initialMap)
+	forEachKeyframeScan(initialMap, [&](const mrpt::math::TPose2D& p, double, ScanPoints pts) {
+		if (m_loops) m_loops->addFixedScan(p, std::move(pts));
+	});
+}
+
+template <class F>
+void PerfectMatchSlam::forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyframes, F&& f)
+{
+	// Each keyframe's scans into the map at the keyframe's pose, and to `f`.
+	for (const auto& [posePDF, sf] : keyframes)
 	{
 		if (!posePDF || !sf) continue;
 		const mrpt::math::TPose2D p = mrpt::poses::CPose2D(posePDF->getMeanVal()).asTPose();
@@ -139,11 +150,49 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 			{
 				ScanPoints pts = scanToPoints(*scan, PM_options.grid.scan);
 				m_grid->insertScan(pts, p);
-				if (m_loops) m_loops->addFixedScan(p, std::move(pts));
 				m_mapEmpty = false;
+				f(p, mrpt::Clock::toDouble(scan->timestamp), std::move(pts));
 			}
 		if (PM_options.keepSimpleMap) m_initialKeyframes.insert(posePDF, sf);
 	}
+}
+
+void PerfectMatchSlam::continueSession(const mrpt::maps::CSimpleMap& keyframes, const PoseGraph* graph,
+									   const mrpt::math::TPose2D& start)
+{
+	const mrpt::poses::CPosePDFGaussian x0{mrpt::poses::CPose2D(start)};
+	initialize(mrpt::maps::CSimpleMap(), &x0);
+	std::lock_guard<std::mutex> lock(mapMutex());
+	std::vector<LoopClosure::PriorKeyframe> prior;
+	forEachKeyframeScan(keyframes, [&](const mrpt::math::TPose2D& p, double t, ScanPoints pts) {
+		m_priorPoses.push_back(p);
+		m_priorTimes.push_back(t);
+		if (!m_loops) return;
+		m_frames.addKeyframe(p);
+		prior.push_back({p, t, std::move(pts)});
+	});
+	if (m_loops) m_loops->addPriorKeyframes(std::move(prior), graph);
+}
+
+std::vector<mrpt::math::TPose2D> PerfectMatchSlam::correctedPriorPoses(const std::vector<mrpt::math::TPose2D>& poses,
+																	   const std::vector<double>& times,
+																	   std::size_t firstKeyframe,
+																	   std::size_t keyframes) const
+{
+	// Each pose moves with the latest keyframe of its part taken before it (the one it was tracked
+	// from), as the graph moved that keyframe.
+	std::vector<mrpt::math::TPose2D> out = poses;
+	if (!m_loops || m_loops->priorCount() != m_priorPoses.size()) return out;
+	const std::size_t end = std::min(m_priorPoses.size(), firstKeyframe + keyframes);
+	if (firstKeyframe >= end) return out;
+	for (std::size_t i = 0; i < out.size(); ++i)
+	{
+		std::size_t k = firstKeyframe;
+		while (k + 1 < end && m_priorTimes[k + 1] <= times[i]) ++k;
+		const mrpt::poses::CPose2D offset = mrpt::poses::CPose2D(poses[i]) - mrpt::poses::CPose2D(m_priorPoses[k]);
+		out[i] = (mrpt::poses::CPose2D(m_loops->nodePose(k)) + offset).asTPose();
+	}
+	return out;
 }
 
 void PerfectMatchSlam::processOdometry(const mrpt::math::TPose2D& odometry, double timestamp)
@@ -393,8 +442,17 @@ void PerfectMatchSlam::finishLoopClosure()
 		ScanResult scratch;
 		applyMapCorrection(u, scratch);
 	}
-	if (PM_options.keepSimpleMap && m_keyframes.size() == m_loops->nodeCount())
-		for (std::size_t i = 0; i < m_keyframes.size(); ++i) m_keyframes.setPose(i, m_loops->nodePose(i));
+	const std::size_t prior = m_loops->priorCount();
+	if (PM_options.keepSimpleMap && prior + m_keyframes.size() == m_loops->nodeCount())
+	{
+		for (std::size_t i = 0; i < m_keyframes.size(); ++i) m_keyframes.setPose(i, m_loops->nodePose(prior + i));
+		for (std::size_t i = 0; i < prior && i < m_initialKeyframes.size(); ++i)
+		{
+			auto& kf = m_initialKeyframes.getAsPair(i);
+			kf.pose = mrpt::poses::CPose3DPDFGaussian::Create(
+				mrpt::poses::CPose3D(mrpt::poses::CPose2D(m_loops->nodePose(i))), kf.pose->getCovariance());
+		}
+	}
 }
 
 std::vector<mrpt::math::TPose2D> PerfectMatchSlam::correctedTrajectory(const std::vector<mrpt::math::TPose2D>& online) const

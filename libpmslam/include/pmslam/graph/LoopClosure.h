@@ -176,6 +176,24 @@ class LoopClosure
 	/** A scan that is in every map built (initialize()'s prior keyframes), at a fixed pose. */
 	void addFixedScan(const mrpt::math::TPose2D& pose, ScanPoints scan);
 
+	/** A keyframe of an earlier session (pm-slam-app --continue). */
+	struct PriorKeyframe
+	{
+		mrpt::math::TPose2D pose;
+		double timestamp = 0;
+		ScanPoints scan;
+	};
+	/** An earlier session's keyframes as the first nodes, before any addKeyframe(): their scans in every
+	 * map built and their poses free to move, so loops onto them close like any other and the graph
+	 * optimises both sessions together. `graph`: that session's pose graph over exactly these
+	 * keyframes, whose edges (odometry, loops, revisits) are taken as they are; without one (or one
+	 * of another size), each keyframe is tied to the one before by its relative pose as an odometry
+	 * edge. The next keyframe, the new session's first, is tied to the nearest of them by its
+	 * front-end match (the start was matched on their map), not to the last one. */
+	void addPriorKeyframes(std::vector<PriorKeyframe> keyframes, const PoseGraph* graph);
+	/** Nodes that addPriorKeyframes() added (the first ones). */
+	std::size_t priorCount() const { return m_priorCount; }
+
 	/** What the worker handed over: the map's blocks that changed, as a map with the moved
 	 * keyframes at their optimised poses has them (give both to the front-end's map's
 	 * replaceBlocks()), and the rigid correction that takes the front-end's frame to it (apply
@@ -272,6 +290,7 @@ class LoopClosure
 	// since it was put into the map, the patch that re-inserts those that moved more than `reinsert`.
 	void patchMoved(double trigger, double reinsert, JobResult& r);
 	Eigen::Matrix3d odometryInformation(const mrpt::math::TPose2D& z, double scale) const;
+	std::size_t nearestNode(const mrpt::math::TPose2D& pose) const;	// by position, of the nodes so far
 	// m: three sigmas of the odometry edge `z` across lost tracking, its heading at a 5 m lever arm.
 	double untrackedDoubt(const mrpt::math::TPose2D& z) const;
 	Eigen::Matrix3d toEdgeFrame(const Eigen::Matrix3d& mapFrameInformation, double fromPhi) const;
@@ -283,6 +302,7 @@ class LoopClosure
 	PerfectMatchMatcher m_matcher;
 	std::vector<std::pair<mrpt::math::TPose2D, ScanPoints>> m_fixed;
 	std::vector<Node> m_nodes;
+	std::size_t m_priorCount = 0;  // the first nodes, an earlier session's (addPriorKeyframes)
 	PoseGraph m_graph;
 	std::vector<Match> m_matches;  // verified, of the last agreeWindow metres (and all accepted ones)
 	double m_lastAttempt = -1e18, m_lastClosure = 0;  // travel (m)

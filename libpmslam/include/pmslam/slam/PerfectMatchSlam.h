@@ -166,6 +166,18 @@ class PerfectMatchSlam
 	 * Throws std::invalid_argument for an empty grid or one without any occupied cell.
 	 * To map again afterwards: setMapUpdating(true) and initialize(). */
 	void initializeWithFixedMap(const mrpt::maps::COccupancyGridMap2D& grid, const mrpt::math::TPose2D& initialPose);
+	/** pm-slam-app --continue: resets, puts an earlier session's `keyframes` (with their scans) into the map
+	 * and, with loop closure, into the pose graph as its first nodes (LoopClosure::addPriorKeyframes;
+	 * `graph`: that session's graph over them, if any), and puts the robot at `start`. Mapping then goes
+	 * on; the keyframes may move as the graph is optimised (finishLoopClosure() gives them their final
+	 * poses in the simple map). */
+	void continueSession(const mrpt::maps::CSimpleMap& keyframes, const PoseGraph* graph, const mrpt::math::TPose2D& start);
+	/** After continueSession() and finishLoopClosure(): `poses` of an earlier session (at `times`, s),
+	 * each moved with the latest of the keyframes [firstKeyframe, firstKeyframe + keyframes) taken at
+	 * or before it (the part of the session it belongs to), as the graph moved that keyframe. */
+	std::vector<mrpt::math::TPose2D> correctedPriorPoses(const std::vector<mrpt::math::TPose2D>& poses,
+														 const std::vector<double>& times, std::size_t firstKeyframe,
+														 std::size_t keyframes) const;
 	/** Sub-cell shift (m) applied to the last fixed map to put it on the resolution lattice
 	 * (zero for every grid pmslam or MRPT's setSize() made). */
 	mrpt::math::TPoint2D fixedMapShift() const { return m_fixedMapShift; }
@@ -275,6 +287,8 @@ class PerfectMatchSlam
 	ScanResult m_last;
 	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
+	std::vector<mrpt::math::TPose2D> m_priorPoses;	// continueSession's keyframes, as given
+	std::vector<double> m_priorTimes;  // and their scans' times (s)
 	// Loop closure: the back-end, and the frames the front-end worked in as its maps came in.
 	std::unique_ptr<LoopClosure> m_loops;
 	FrameHistory m_frames;
@@ -283,6 +297,8 @@ class PerfectMatchSlam
 	MotionPrediction predict(const mrpt::obs::CObservation2DRangeScan& scan,
 							 const std::optional<mrpt::math::TPose2D>& odometryAtScan);
 	bool crossesWalls(const ScanPoints& pts, const mrpt::math::TPose2D& pose) const;
+	template <class F>
+	void forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyframes, F&& f);
 	Hypothesis searchOrFollowRivals(const ScanPoints& pts, const ScanResult& r, const SearchWindow& window);
 	std::optional<TrackingState> matchScan(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPoints& pts,
 										   const MotionPrediction& motion, const SearchWindow& window,

@@ -7,14 +7,18 @@
  *   - trajectory.txt: every scan of every part in the one map frame, the parts' lines in order;
  *   - map.simplemap.gz: the keyframes of every part with their scans (MRPT's CSimpleMap), the map a
  *     continuing run re-inserts;
- *   - map.gridmap.gz: the map as a grid, on which a continuing run searches where it starts.
+ *   - map.gridmap.gz: the map as a grid, on which a continuing run searches where it starts;
+ *   - graph.graph (with loop closure): the pose graph over those keyframes, every part's.
  * A folder written before session.ini existed is read as one part (its log unknown).
  */
 #pragma once
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
+#include <pmslam/graph/PoseGraph.h>
 #include <pmslam/io/Trajectory.h>
+
+#include <optional>
 
 #include <stdexcept>
 #include <string>
@@ -32,6 +36,7 @@ struct SessionPart
 {
 	std::string log;  ///< the log the part was mapped from, as given on its command line
 	std::size_t scans = 0;	///< its lines in trajectory.txt
+	std::size_t keyframes = 0;	///< its keyframes in map.simplemap.gz (the next ones after the earlier parts')
 };
 
 struct Session
@@ -43,6 +48,9 @@ struct Session
 	Trajectory trajectory;	///< every scan of every part
 	mrpt::maps::CSimpleMap keyframes;
 	mrpt::maps::COccupancyGridMap2D grid;
+	/** graph.graph, when it covers exactly the keyframes (a run with loop closure): its edges are the
+	 * constraints the continuing run keeps between them. */
+	std::optional<PoseGraph> graph;
 };
 
 /** Reads the session in `folder`. Throws SessionError, one line naming the file and what was expected:

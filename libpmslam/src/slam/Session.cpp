@@ -4,7 +4,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/io/PriorMap.h>
-#include <pmslam/io/Session.h>
+#include <pmslam/slam/Session.h>
 #include <pmslam/util/ExceptionText.h>
 
 #include <filesystem>
@@ -63,12 +63,31 @@ bool readIndex(const fs::path& dir, Session& s)
 		const std::string section = "Part" + std::to_string(k);
 		SessionPart part;
 		part.log = ini.read_string(section, "log", "");
-		const long scans = ini.read_int(section, "scans", -1);
+		const long scans = ini.read_int(section, "scans", -1), keyframes = ini.read_int(section, "keyframes", -1);
 		if (scans < 0) throw SessionError(file + ": [" + section + "] scans missing or negative");
+		if (keyframes < 0) throw SessionError(file + ": [" + section + "] keyframes missing or negative");
 		part.scans = std::size_t(scans);
+		part.keyframes = std::size_t(keyframes);
 		s.parts.push_back(part);
 	}
 	return true;
+}
+void readGraph(const fs::path& dir, Session& s)
+{
+	// Optional: a run without loop closure has none, and the keyframes are then chained by their poses.
+	const fs::path p = dir / "graph.graph";
+	if (!fs::is_regular_file(p)) return;
+	try
+	{
+		s.graph = PoseGraph::readGraphFile(p.string());
+	}
+	catch (const std::exception& e)
+	{
+		throw SessionError(p.string() + ": not a readable pose graph (" + exceptionSummary(e.what()) + ")");
+	}
+	if (s.graph->nodeCount() != s.keyframes.size())
+		throw SessionError(p.string() + ": " + std::to_string(s.graph->nodeCount()) + " nodes for " +
+						   std::to_string(s.keyframes.size()) + " keyframes in map.simplemap.gz");
 }
 }  // namespace
 
@@ -100,13 +119,17 @@ Session loadSession(const std::string& folder)
 	if (!indexed)
 	{
 		s.resolution = s.grid.getResolution();
-		s.parts = {{"", s.trajectory.size()}};
+		s.parts = {{"", s.trajectory.size(), s.keyframes.size()}};
 	}
-	std::size_t scans = 0;
-	for (const auto& p : s.parts) scans += p.scans;
+	std::size_t scans = 0, keyframes = 0;
+	for (const auto& p : s.parts) scans += p.scans, keyframes += p.keyframes;
 	if (scans != s.trajectory.size())
 		throw SessionError(folder + "/session.ini: its parts have " + std::to_string(scans) + " scans, trajectory.txt " +
 						   std::to_string(s.trajectory.size()));
+	if (keyframes != s.keyframes.size())
+		throw SessionError(folder + "/session.ini: its parts have " + std::to_string(keyframes) +
+						   " keyframes, map.simplemap.gz " + std::to_string(s.keyframes.size()));
+	readGraph(dir, s);
 	return s;
 }
 
@@ -118,7 +141,8 @@ void saveSessionIndex(const std::string& folder, double resolution, const std::v
 			<< "[Session]\nformat = " << Session::kFormat << "\nresolution = " << resolution
 			<< "\nparts = " << parts.size() << "\n";
 		for (std::size_t k = 0; k < parts.size(); ++k)
-			out << "\n[Part" << k + 1 << "]\nlog = " << parts[k].log << "\nscans = " << parts[k].scans << "\n";
+			out << "\n[Part" << k + 1 << "]\nlog = " << parts[k].log << "\nscans = " << parts[k].scans
+				<< "\nkeyframes = " << parts[k].keyframes << "\n";
 	});
 }
 
