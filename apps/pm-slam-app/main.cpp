@@ -138,10 +138,19 @@ bool openInputAndOutput(const Options& o, const pmslam::SlamConfig& cfg, Input& 
 }
 
 /** How the search for the start ended; false when it found none (then nothing was tracked). */
-bool sayStart(const pmslam::GlobalLocalizer& g)
+bool sayStart(const pmslam::GlobalLocalizer& g, const Options& o)
 {
 	char line[400];
 	const auto best = g.best();
+	if (o.continuing() && g.state() != pmslam::GlobalLocalizer::State::Found)
+	{
+		std::snprintf(line, sizeof line,
+					  "--continue: no place on %s's map explains the log's first scans (%zu scans, %zu whole-map "
+					  "searches): the log must start where the map was made; nothing written (exit status 3)",
+					  o.continueFrom.c_str(), g.scansUsed(), g.searches());
+		say(line);
+		return false;
+	}
 	if (g.state() == pmslam::GlobalLocalizer::State::Found)
 	{
 		std::snprintf(line, sizeof line,
@@ -271,7 +280,7 @@ int main(int argc, char** argv)
 	const double finishS = secondsSince(finishStart), wallS = secondsSince(wallStart);
 
 	if (const auto* start = run.startSearch())
-		if (!sayStart(*start))
+		if (!sayStart(*start, options))
 		{
 			folder.abandon();
 			return 3;

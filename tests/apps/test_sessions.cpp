@@ -125,6 +125,53 @@ TEST(Sessions, ALogCutInTwoMapsAsWellAsOneRun)
 	EXPECT_LT(log.error(pmslam::loadTrajectory(dir.path("ab2") + "/trajectory.txt")).second, 0.05);
 }
 
+// Two sessions mapped apart (the second in its own frame, as another robot or another day would) merge:
+// the second's folder given as the log replays its keyframes, its own trajectory as their odometry, and
+// they land where the truth has them in the first one's frame.
+TEST(Sessions, TwoSessionsMappedApartMergeIntoOneFrame)
+{
+	pmslam::testing::ScratchDir dir("sessions-merge");
+	const CutLog log(dir);
+	ASSERT_EQ(run(quote(kApp) + " --quiet --out " + quote(dir.path("a")) + " " + quote(log.first)).exitCode, 0);
+	ASSERT_EQ(run(quote(kApp) + " --quiet --out " + quote(dir.path("b")) + " " + quote(log.second)).exitCode, 0);
+	const auto r = run(quote(kApp) + " --continue " + quote(dir.path("a")) + " --out " + quote(dir.path("ab")) + " " +
+					   quote(dir.path("b")));
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("global localisation: start found at"), std::string::npos) << r.output;
+	const pmslam::Session merged = pmslam::loadSession(dir.path("ab"));
+	ASSERT_EQ(merged.parts.size(), 2u);
+	const pmslam::Session b = pmslam::loadSession(dir.path("b"));
+	EXPECT_EQ(merged.parts[1].scans, b.keyframes.size());	// one pose per keyframe replayed
+	// Each replayed keyframe's pose against the truth at its scan's time.
+	const pmslam::testing::CarmenLogSpec spec;
+	const double t0 = spec.t0 + spec.dt * double(log.cut) + 30;
+	double worst = 0;
+	for (std::size_t i = log.cut; i < merged.trajectory.size(); ++i)
+	{
+		const auto k = log.cut + std::size_t(std::lround((merged.trajectory[i].timestamp - t0) / spec.dt));
+		ASSERT_LT(k, log.truth.size());
+		const TPose2D truth = pmslam::testing::relativeToFirst(log.truth, k);
+		worst = std::max(worst, std::hypot(merged.trajectory[i].x - truth.x, merged.trajectory[i].y - truth.y));
+	}
+	EXPECT_LT(worst, 0.05);
+}
+
+// A log that does not start on the session's map is refused, not forced onto a look-alike.
+TEST(Sessions, ALogOfAnotherPlaceIsNotContinued)
+{
+	const std::string sample = "/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+	if (!fs::exists(sample)) GTEST_SKIP() << sample << " not installed (comes with mrpt-common)";
+	pmslam::testing::ScratchDir dir("sessions-foreign");
+	const CutLog log(dir);
+	ASSERT_EQ(run(quote(kApp) + " --quiet --out " + quote(dir.path("a")) + " " + quote(log.first)).exitCode, 0);
+	const auto r = run(quote(kApp) + " --continue " + quote(dir.path("a")) + " --out " + quote(dir.path("out")) + " " +
+					   quote(sample));
+	EXPECT_EQ(r.exitCode, 3) << r.output;
+	EXPECT_NE(r.output.find("no place on " + dir.path("a") + "'s map explains the log's first scans"), std::string::npos)
+		<< r.output;
+	EXPECT_FALSE(fs::exists(dir.path("out") + "/trajectory.txt"));
+}
+
 // What cannot be continued is said in one line naming the file, exit status 2, and nothing is written.
 TEST(Sessions, WhatCannotBeContinuedIsAOneLineError)
 {

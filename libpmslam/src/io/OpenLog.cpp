@@ -10,6 +10,7 @@
 #include <pmslam/io/LogReader.h>
 #include <pmslam/util/ExceptionText.h>
 #include <pmslam/io/RawlogReader.h>
+#include <pmslam/io/SimpleMapLogReader.h>
 
 #include <algorithm>
 #include <cctype>
@@ -167,6 +168,8 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 						   "writes them: plain or gz)");
 	}
 	const std::string expected = opts.follow ? "expected an MRPT .rawlog to follow" : kExpected;
+	// A simple map (or an output folder holding one) replays its keyframes (merging sessions).
+	if (!opts.follow && SimpleMapLogReader::accepts(path)) return std::make_unique<SimpleMapLogReader>(path);
 	std::error_code ec;
 	const auto st = fs::status(path, ec);
 	if (!path.empty() && ec && st.type() == fs::file_type::none)  // e.g. a folder on the way is not searchable

@@ -5,6 +5,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <pmslam/map/GridLine.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
+#include <pmslam/map/WallCrossing.h>
 
 #include <algorithm>
 #include <cmath>
@@ -406,26 +407,7 @@ double OccupancyDistanceGridMap::unexploredFraction(const std::vector<mrpt::math
 double OccupancyDistanceGridMap::crossedWallFraction(const ScanPoints& scan, const mrpt::math::TPose2D& pose,
 												   double margin) const
 {
-	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
-	const double ox = pose.x + c * scan.sensorOrigin.x - s * scan.sensorOrigin.y;
-	const double oy = pose.y + s * scan.sensorOrigin.x + c * scan.sensorOrigin.y;
-	const int sx = worldToGlobalCell(ox), sy = worldToGlobalCell(oy);
-	std::size_t counted = 0, crossed = 0;
-	for (const auto& p : scan.hits)
-	{
-		const double ex = pose.x + c * p.x - s * p.y - ox, ey = pose.y + s * p.x + c * p.y - oy;
-		const double length = std::hypot(ex, ey);
-		if (length <= margin) continue;
-		const double k = (length - margin) / length;
-		++counted;
-		bool hit = false;
-		forEachCellOnLine(sx, sy, worldToGlobalCell(ox + k * ex), worldToGlobalCell(oy + k * ey), [&](int x, int y) {
-			hit = isOccupiedCell(x, y);
-			return !hit;
-		});
-		crossed += hit;
-	}
-	return counted ? double(crossed) / double(counted) : 0.0;
+	return crossedObstacleFraction(m_distance, scan, pose, margin);
 }
 
 }  // namespace pmslam

@@ -9,6 +9,8 @@
  *  - RawlogReader: MRPT .rawlog files, plain or gz-compressed, in the
  *    action–observation or the observation-only format. MRPT reads no bzip2:
  *    a bzip2-compressed rawlog is refused with a message saying so.
+ *  - SimpleMapLogReader: an MRPT simple map (or a pm-slam-app output folder),
+ *    its keyframes replayed with their poses as odometry (merging sessions).
  *
  * LogReader::open() picks the reader from the file's content (and extension).
  * It is defined in src/io/OpenLog.cpp, not LogReader.cpp: as the factory it

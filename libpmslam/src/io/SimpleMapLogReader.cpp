@@ -1,0 +1,78 @@
+/* pmslam — a simple map read as a log (see SimpleMapLogReader.h). */
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/serialization/CArchive.h>
+#include <pmslam/io/SimpleMapLogReader.h>
+#include <pmslam/util/ExceptionText.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace pmslam
+{
+namespace fs = std::filesystem;
+
+namespace
+{
+bool endsWith(std::string s, const std::string& tail)
+{
+	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+	return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string fileOf(const std::string& path)
+{
+	return fs::is_directory(path) ? (fs::path(path) / "map.simplemap.gz").string() : path;
+}
+}  // namespace
+
+bool SimpleMapLogReader::accepts(const std::string& path)
+{
+	std::error_code ec;
+	if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "map.simplemap.gz", ec);
+	return endsWith(path, ".simplemap") || endsWith(path, ".simplemap.gz");
+}
+
+SimpleMapLogReader::SimpleMapLogReader(const std::string& path) : LogReader(path)
+{
+	const std::string file = fileOf(path);
+	mrpt::io::CFileGZInputStream in;
+	if (!in.open(file)) throw LogError("pmslam: cannot open simple map '" + file + "'");
+	try
+	{
+		mrpt::serialization::archiveFrom(in) >> m_keyframes;
+	}
+	catch (const std::exception& e)
+	{
+		throw LogError("pmslam: '" + file + "' is not an MRPT simple map (" + exceptionSummary(e.what()) + ")");
+	}
+	if (m_keyframes.empty()) throw LogError("pmslam: simple map '" + file + "' has no keyframe");
+}
+
+bool SimpleMapLogReader::next(LogEvent& ev)
+{
+	while (m_queue.empty() && m_next < m_keyframes.size())
+	{
+		const std::size_t k = m_next++;
+		const auto [pose, sf] = m_keyframes.get(k);
+		++m_stats.linesOrObjects;
+		if (!pose || !sf) continue;
+		const auto odometry = mrpt::poses::CPose2D(pose->getMeanVal()).asTPose();
+		for (const auto& obs : *sf)
+			if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
+			{
+				LogEvent e;
+				e.kind = LogEvent::Kind::Scan;
+				e.scan = scan;
+				e.timestamp = scan->timestamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(scan->timestamp) : double(k);
+				e.scanHasOdometry = true;
+				e.scanOdometry = odometry;
+				e.sourceIndex = k + 1;
+				m_queue.push_back(e);
+			}
+	}
+	return !m_queue.empty() && deliver(m_queue, ev);
+}
+
+}  // namespace pmslam
