@@ -317,6 +317,33 @@ TEST(LiveSensors, TracksTheRobotOnTheMapOfAnEarlierRun)
 	EXPECT_LT(e.maxDrift, 0.1);
 	// On the fixed map the pose is absolute: the robot's start, the map's origin.
 	EXPECT_LT(std::hypot(poses.front().x, poses.front().y), 0.05);
+
+	// Again with a start pose 3 m and 150 degrees off: the robot is lost, searched for on the whole map,
+	// found, and every pose from then on is where the truth has it (D47).
+	fs::rename(dir / "truth.txt", dir / "truth-tracked.txt");
+	const fs::path hinted = dir / "hinted";
+	Emulator again(dir, "scip");
+	ASSERT_GT(again.port, 0);
+	const auto h = runLive(writeIni(dir, hokuyoIni(again.port)), hinted, 9.0,
+						   "--localize " + quote((mapped / "map.gridmap.gz").string()) + " --initial-pose=3,1,150");
+	ASSERT_EQ(h.exitCode, 0) << h.output;
+	EXPECT_NE(h.output.find("the robot found again 1 times"), std::string::npos) << h.output;
+	EXPECT_NE(h.output.find("tracking: recovered"), std::string::npos) << h.output;
+	const auto found = loadPoses(hinted / "trajectory.txt");
+	ASSERT_GT(found.size(), 150u);
+	// The map's frame is the truth's first pose's: each pose of the second half against the truth nearest in time.
+	const auto truth = loadPoses(dir / "truth.txt");
+	ASSERT_FALSE(truth.empty());
+	double worst = 0;
+	for (std::size_t i = found.size() / 2; i < found.size(); ++i)
+	{
+		const auto it = std::min_element(truth.begin(), truth.end(), [&](const Pose& a, const Pose& b) {
+			return std::abs(a.t - found[i].t) < std::abs(b.t - found[i].t);
+		});
+		const Pose g = relative(truth.front(), *it);
+		worst = std::max(worst, std::hypot(found[i].x - g.x, found[i].y - g.y));
+	}
+	EXPECT_LT(worst, 0.15) << h.output;
 	fs::remove_all(dir);
 }
 
