@@ -276,3 +276,67 @@ TEST(LoopClosure, LookAlikeCorridorIsNoLoop)
 	EXPECT_EQ(guarded.stats.accepted, 0u);
 	EXPECT_LT(guarded.maxError, 0.3);
 }
+
+// A lap of the ring mapped as two sessions (D48): the first drives most of the lap and drifts, the second
+// (its odometry restarted) finishes it and comes back to where the first began. With the first session's
+// keyframes and edges in the second's graph, that loop straightens the first session too (kept fixed in
+// the map, as before D48, the first session's poses would keep their drift).
+TEST(LoopClosure, ASecondSessionsLoopCorrectsTheFirstSession)
+{
+	const SyntheticWorld world = ringWorld();
+	const auto truth = ringPath(1.15, kStep);
+	const std::size_t cut = ringPath(0.9, kStep).size();
+	const std::vector<TPose2D> truth1(truth.begin(), truth.begin() + long(cut)), truth2(truth.begin() + long(cut), truth.end());
+	// What the first session leaves: its trajectory, its keyframes at their final poses and its graph.
+	std::vector<TPose2D> first;
+	mrpt::maps::CSimpleMap keyframes;
+	pmslam::PoseGraph graph;
+	{
+		pmslam::PerfectMatchSlam s;
+		s.initialize();
+		const auto odo = badOdometry(truth1);
+		for (std::size_t k = 0; k < truth1.size(); ++k)
+		{
+			const double t = 1000 + 0.1 * double(k);
+			auto scan = nearbyPart(world, truth1[k].x, truth1[k].y, 31).scan(truth1[k], 181, M_PI, 30.0, 0.01, unsigned(k + 1));
+			scan.timestamp = mrpt::Clock::fromDouble(t);
+			s.processOdometry(odo[k], t);
+			first.push_back(s.processScan(scan).pose);
+			for (const auto& [i, p] : s.takeSmoothedPoses()) first[i] = p;
+		}
+		for (const auto& [i, p] : s.takeSmoothedPoses(true)) first[i] = p;
+		s.finishLoopClosure();
+		first = s.correctedTrajectory(first);
+		s.getCurrentlyBuiltMap(keyframes);
+		graph = s.loopClosure()->graph();
+	}
+	// The second session starts where the first left the robot (as a whole-map search would find it).
+	const auto continued = [&] {
+		pmslam::PerfectMatchSlam s;
+		s.initialize();
+		s.continueSession(keyframes, &graph, first.back());
+		const auto odo = badOdometry(truth2);
+		for (std::size_t k = 0; k < truth2.size(); ++k)
+		{
+			const double t = 2000 + 0.1 * double(k);
+			auto scan = nearbyPart(world, truth2[k].x, truth2[k].y, 31).scan(truth2[k], 181, M_PI, 30.0, 0.01, unsigned(k + 7));
+			scan.timestamp = mrpt::Clock::fromDouble(t);
+			s.processOdometry(odo[k], t);
+			s.processScan(scan);
+		}
+		s.finishLoopClosure();
+		std::vector<double> times;
+		for (std::size_t k = 0; k < truth1.size(); ++k) times.push_back(1000 + 0.1 * double(k));
+		return s.correctedPriorPoses(first, times, 0, keyframes.size());
+	};
+	// The first session's drift: its last pose relative to its first, against the truth.
+	const auto drift = [&](const std::vector<TPose2D>& est) {
+		const CPose2D t = CPose2D(truth1.back()) - CPose2D(truth1.front());
+		const CPose2D e = CPose2D(est.back()) - CPose2D(est.front());
+		return std::hypot(t.x() - e.x(), t.y() - e.y());
+	};
+	const double alone = drift(first), joint = drift(continued());
+	std::printf("first session's drift: alone %.3f m, optimised together with the second %.3f m\n", alone, joint);
+	EXPECT_GT(alone, 0.3);	// the first session did drift
+	EXPECT_LT(joint, 0.3 * alone);
+}
