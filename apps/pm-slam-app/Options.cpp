@@ -44,6 +44,9 @@ options (before or after LOG; an option's value may also follow it after '=': --
                           is searched on DIR's map, the map and loops grow on, and --out holds the map, the
                           pose graph and the trajectory of every session so far (trajectory.txt's header
                           says which poses are which session)
+  --lifelong              with --continue: the earlier keyframes this run covers (within 0.5 m and 30 deg)
+                          are retired and the map rebuilt without them, so it shows what changed (moved
+                          furniture) and its keyframes follow the area, not the hours driven
   --initial-pose X,Y,YAW_DEG  start pose on the --localize or --continue map (m, m, degrees), if known
   --gui                   live view of map, scan and trajectory (needs a display); at the end the final map
                           stays shown until the window is closed or a key is pressed in it
@@ -152,6 +155,7 @@ bool takeOption(const std::string& s, Words& w, Options& a, bool& initialPoseGiv
 	else if (s == "--snapshot-every") a.snapshotEvery = w.seconds(s);
 	else if (s == "--connect-timeout") a.connectTimeout = w.seconds(s);
 	else if (s == "--max-pending") a.maxPending = w.wholeNumber(s, 1);
+	else if (s == "--lifelong") a.lifelong = true;
 	else if (s == "--gui") a.gui = true;
 	else if (s == "--quiet") a.quiet = true;
 	else if (s == "--progress") a.progress = 1;
@@ -166,6 +170,7 @@ void checkCombination(Options& a, std::vector<std::string> positional, bool init
 	if (positional.size() > 1) usageError("expected one LOG, got " + std::to_string(positional.size()));
 	if (initialPoseGiven && a.localize.empty() && a.continueFrom.empty())
 		usageError("--initial-pose needs --localize MAP or --continue DIR");
+	if (a.lifelong && a.continueFrom.empty()) usageError("--lifelong needs --continue DIR (the map whose keyframes give way)");
 	if (!a.localize.empty() && !a.continueFrom.empty())
 		usageError("--localize and --continue exclude each other: localise on a map, or continue it");
 	if (!a.live.empty() && !a.follow.empty()) usageError("--live and --follow exclude each other");

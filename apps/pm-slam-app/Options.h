@@ -17,6 +17,7 @@ struct Options
 	std::size_t maxScans = 0;
 	std::string localize;  // fixed map to localise on (empty: SLAM)
 	std::string continueFrom;  // session folder whose map this run continues (empty: a new map)
+	bool lifelong = false;	// --continue: earlier keyframes this run covers are retired
 	mrpt::math::TPose2D initialPose{0, 0, 0};
 	bool initialPoseGiven = false;	// else --localize searches the whole map for the start
 	bool gui = false, quiet = false;

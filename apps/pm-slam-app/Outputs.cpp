@@ -47,7 +47,7 @@ void writeOutputs(const std::string& dir, const SlamRun& run, const pmslam::Traj
 	const auto& slam = run.slam();
 	const auto& traj = run.trajectory();
 	std::vector<pmslam::SessionPart> parts;
-	if (run.session()) parts = run.session()->parts;
+	if (run.session()) parts = run.earlierParts();
 	parts.push_back({log, traj.size(), slam.scansInserted()});
 	const std::string sessions = localizing ? "" : "\n" + pmslam::sessionPartsComment(parts);
 	pmslam::saveTrajectory(at("trajectory.txt"), everySession(run, traj),
@@ -57,7 +57,7 @@ void writeOutputs(const std::string& dir, const SlamRun& run, const pmslam::Traj
 		pmslam::saveTrajectory(at("trajectory_online.txt"), everySession(run, online),
 							   header + sessions +
 								   "\neach pose as known when its scan was processed (before later loop closures)");
-	if (slam.loopClosure()) slam.loopClosure()->graph().writeGraphFile(at("graph.graph"));
+	if (slam.loopClosure()) slam.outputGraph().writeGraphFile(at("graph.graph"));
 	timing.write(at("timing.txt"), header);
 	const auto& grid = slam.grid();
 	pmslam::saveMapPng(grid, traj, at("map.png"), run.loopLinks());

@@ -170,6 +170,23 @@ void SlamRun::finish(pmslam::Trajectory& online)
 	online = m_traj;
 	m_slam.finishLoopClosure();
 	m_traj = corrected(m_traj);
+	// --lifelong: earlier keyframes this run covers (0.5 m, 30 degrees: the same view) give way to its own.
+	if (m_lifelong && m_session) m_retired = m_slam.retireCoveredKeyframes(0.5, mrpt::DEG2RAD(30.0));
+}
+
+std::vector<pmslam::SessionPart> SlamRun::earlierParts() const
+{
+	// The continued session's parts, each counting the keyframes it keeps.
+	if (!m_session) return {};
+	std::vector<pmslam::SessionPart> parts = m_session->parts;
+	std::size_t first = 0;
+	for (auto& part : parts)
+	{
+		const std::size_t end = first + part.keyframes;
+		for (std::size_t i = first; i < end && i < m_retired.size(); ++i) part.keyframes -= m_retired[i];
+		first = end;
+	}
+	return parts;
 }
 
 pmslam::Trajectory SlamRun::corrected(const pmslam::Trajectory& t) const

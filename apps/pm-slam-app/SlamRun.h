@@ -11,6 +11,7 @@
 #include <pmslam/slam/PerfectMatchSlam.h>
 #include <pmslam/slam/SlamConfig.h>
 
+#include <algorithm>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -36,6 +37,12 @@ class SlamRun
 	/** Its trajectory (every earlier part), each pose moved with its keyframe as the graph of both
 	 * sessions moved it (final after finish()); empty without a session. */
 	pmslam::Trajectory earlierSessions() const;
+	/** --lifelong: at finish(), earlier keyframes this run covers are retired (PerfectMatchSlam::retireCoveredKeyframes). */
+	void setLifelong(bool on) { m_lifelong = on; }
+	/** The continued session's parts, their keyframe counts less those retired (empty without a session). */
+	std::vector<pmslam::SessionPart> earlierParts() const;
+	/** Earlier keyframes retired at finish(). */
+	std::size_t retiredKeyframes() const { return std::size_t(std::count(m_retired.begin(), m_retired.end(), true)); }
 	bool findingStart() const { return m_start && m_start->state() == pmslam::GlobalLocalizer::State::Searching; }
 	/** One event while findingStart(): true when it decided the start, and the tracker now starts
 	 * there (the events offered so far are to be processed again, from the first). */
@@ -81,6 +88,8 @@ class SlamRun
 	pmslam::OdometrySelector m_startOdometry;  // its own: the events are offered again to m_odometry after
 	const mrpt::maps::COccupancyGridMap2D* m_prior = nullptr;  // the fixed map, while localising
 	const pmslam::Session* m_session = nullptr;	 // the session continued
+	bool m_lifelong = false;
+	std::vector<bool> m_retired;  // per earlier keyframe (--lifelong)
 	std::unique_ptr<pmslam::GlobalLocalizer> m_research;	// the search for a robot lost while localising
 	// The scans since tracking was lost (with their odometry), the first m_offered of them given to m_research.
 	std::vector<std::pair<pmslam::LogEvent, std::optional<mrpt::math::TPose2D>>> m_lost;

@@ -98,6 +98,10 @@ void printSummary(const Options& o, const RunFacts& f)
 				state, slam.scansRejected(), slam.scansAmbiguous(), slam.wideSearches(), slam.relocalizations(),
 				slam.reanchorings(), f.untracked.longest, f.untracked.warned, kWarnUntrackedSeconds);
 	if (o.localizing()) printRelocation(f.run);
+	if (const auto* session = f.run.session())
+		std::printf("  session: continued %s (%zu earlier parts, %zu keyframes)%s\n", o.continueFrom.c_str(),
+					session->parts.size(), session->keyframes.size(),
+					o.lifelong ? (", " + std::to_string(f.run.retiredKeyframes()) + " of them retired (--lifelong)").c_str() : "");
 	if (const auto* lc = slam.loopClosure()) printLoopClosure(*lc, o.out);
 	if (f.live) f.live->printSummary(f.run.trajectory().size());
 	if (o.snapshotEvery > 0)

@@ -240,6 +240,7 @@ int main(int argc, char** argv)
 	pmslam::ProgressLine progress(showProgress, input.reader().estimatedScanCount());
 	input.reader().onWarning = [&](const std::string& w) { progress.clear(), say("warning: " + w); };
 	SlamRun run(cfg);
+	run.setLifelong(options.lifelong);
 	try
 	{
 		if (options.localizing() && options.initialPoseGiven) run.localize(priorMap, options.initialPose);

@@ -172,6 +172,58 @@ TEST(Sessions, ALogOfAnotherPlaceIsNotContinued)
 	EXPECT_FALSE(fs::exists(dir.path("out") + "/trajectory.txt"));
 }
 
+// Lifelong (--lifelong): a room whose cabinet moved is driven again 19 times, each run continuing the last.
+// Earlier keyframes the new run covers give way: after the first pass with the cabinet moved the map shows
+// it where it now stands and no longer where it stood, and the keyframes stay as many as one pass makes
+// (without --lifelong they grow by a pass each time).
+TEST(Sessions, LifelongMapsFollowAMovedCabinetWithBoundedKeyframes)
+{
+	pmslam::testing::ScratchDir dir("sessions-lifelong");
+	const auto path = pmslam::testing::roomPath(80);
+	const auto before = pmslam::testing::furnishedRoom();
+	pmslam::testing::SyntheticWorld after;	// the cabinet at (1.0..1.95, 0.95..1.7) moved to (-1.0..-0.25, 1.5..2.25)
+	after.addBox(-4.025, -3.025, 5.025, 3.025);
+	after.addBox(-0.975, 1.525, -0.225, 2.275);
+	after.addBox(-2.475, -1.975, -1.775, -1.275);
+	after.segments.push_back({-4.025, 0.525, -2.025, 0.525});
+	after.segments.push_back({3.025, -3.025, 3.025, -1.525});
+	const auto odo = pmslam::testing::driftingOdometry(path, 1.02, 0.02);
+	const std::string first = dir.write("before.clf", pmslam::testing::carmenLog(before, path, odo, {}));
+	const std::string again = dir.write("after.clf", pmslam::testing::carmenLog(after, path, odo, {}));
+	ASSERT_EQ(run(quote(kApp) + " --quiet --out " + quote(dir.path("s0")) + " " + quote(first)).exitCode, 0);
+	const std::size_t onePass = pmslam::loadSession(dir.path("s0")).keyframes.size();
+	// The map frame is the first pose's: world (x, y) is map (x + 1.5, y + 0.5).
+	// Occupied: a cell within 0.1 m that MRPT's grid holds as more likely occupied than free.
+	const auto occupied = [&](const std::string& folder, double x, double y) {
+		const auto map = pmslam::loadSession(folder).grid;
+		for (double dy = -0.1; dy <= 0.1; dy += 0.05)
+			for (double dx = -0.1; dx <= 0.1; dx += 0.05)
+				if (map.getPos(float(x + dx + 1.5), float(y + dy + 0.5)) < 0.5f) return true;
+		return false;
+	};
+	EXPECT_TRUE(occupied(dir.path("s0"), 1.5, 0.975));	// the cabinet's south face, where it stood
+	EXPECT_FALSE(occupied(dir.path("s0"), -0.6, 1.525));  // and where it will stand
+	std::string last = dir.path("s0");
+	for (int pass = 1; pass < 20; ++pass)
+	{
+		const std::string out = dir.path("s" + std::to_string(pass));
+		const auto r = run(quote(kApp) + " --quiet --lifelong --continue " + quote(last) + " --out " + quote(out) + " " +
+						   quote(again));
+		ASSERT_EQ(r.exitCode, 0) << "pass " << pass << "\n" << r.output;
+		last = out;
+		const pmslam::Session s = pmslam::loadSession(out);
+		EXPECT_LE(s.keyframes.size(), 2 * onePass) << "pass " << pass;
+		ASSERT_TRUE(s.graph);
+		EXPECT_EQ(s.graph->nodeCount(), s.keyframes.size());
+		EXPECT_EQ(s.trajectory.size(), path.size() * std::size_t(pass + 1));
+		if (pass == 2)
+		{
+			EXPECT_FALSE(occupied(out, 1.5, 0.975)) << "pass " << pass;  // where the cabinet stood
+			EXPECT_TRUE(occupied(out, -0.6, 1.525)) << "pass " << pass;  // its south face where it stands
+		}
+	}
+}
+
 // What cannot be continued is said in one line naming the file, exit status 2, and nothing is written.
 TEST(Sessions, WhatCannotBeContinuedIsAOneLineError)
 {

@@ -127,6 +127,31 @@ void LoopClosure::addPriorKeyframes(std::vector<PriorKeyframe> keyframes, const 
 	if (!m_nodes.empty()) m_lastAnchor = m_lastClosure = m_nodes.back().travel;
 }
 
+PoseGraph LoopClosure::graphWithout(const std::vector<bool>& retired) const
+{
+	const auto gone = [&](std::size_t i) { return i < retired.size() && retired[i]; };
+	std::vector<std::size_t> newId(m_nodes.size(), SIZE_MAX);
+	PoseGraph out;
+	std::size_t next = 0;
+	for (std::size_t i = 0; i < m_nodes.size(); ++i)
+		if (!gone(i)) out.addNode(newId[i] = next++, m_graph.pose(i));
+	for (const auto& e : m_graph.edges())
+		if (!e.rejected && !gone(e.from) && !gone(e.to)) out.addEdge(newId[e.from], newId[e.to], e.z, e.information, e.kind);
+	// The chain across retired nodes: the kept one before them to the kept one after, as the graph has them.
+	std::size_t last = SIZE_MAX;
+	for (std::size_t i = 0; i < m_nodes.size(); ++i)
+	{
+		if (gone(i)) continue;
+		if (last != SIZE_MAX && i > last + 1)
+		{
+			const TPose2D z = relativePose(m_graph.pose(last), m_graph.pose(i));
+			out.addEdge(newId[last], newId[i], z, toMrpt(odometryInformation(z, 1.0)));
+		}
+		last = i;
+	}
+	return out;
+}
+
 std::size_t LoopClosure::nearestNode(const TPose2D& pose) const
 {
 	std::size_t best = 0;

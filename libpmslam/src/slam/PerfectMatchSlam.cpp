@@ -1,5 +1,6 @@
 /* pmslam — online Perfect Match SLAM (see PerfectMatchSlam.h). */
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -130,6 +131,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	if (LC_options.enabled) m_loops = std::make_unique<LoopClosure>(LC_options, PM_params, PM_options.grid);
 	m_frames = FrameHistory();
 	m_priorPoses.clear();
+	m_retired.clear();
 	m_priorTimes.clear();
 	// Re-insert a given map's keyframes at their stored poses.
 	forEachKeyframeScan(initialMap, [&](const mrpt::math::TPose2D& p, double, ScanPoints pts) {
@@ -172,6 +174,50 @@ void PerfectMatchSlam::continueSession(const mrpt::maps::CSimpleMap& keyframes, 
 		prior.push_back({p, t, std::move(pts)});
 	});
 	if (m_loops) m_loops->addPriorKeyframes(std::move(prior), graph);
+}
+
+std::vector<bool> PerfectMatchSlam::retireCoveredKeyframes(double linear, double angular)
+{
+	std::lock_guard<std::mutex> lock(mapMutex());
+	const std::size_t prior = m_initialKeyframes.size();
+	m_retired.assign(prior, false);
+	if (!m_loops || m_loops->priorCount() != prior || prior + m_keyframes.size() != m_loops->nodeCount())
+		return m_retired;
+	for (std::size_t i = 0; i < prior; ++i)
+	{
+		const mrpt::math::TPose2D a = m_loops->nodePose(i);
+		for (std::size_t j = prior; j < m_loops->nodeCount() && !m_retired[i]; ++j)
+		{
+			const mrpt::math::TPose2D b = m_loops->nodePose(j);
+			m_retired[i] = std::hypot(a.x - b.x, a.y - b.y) <= linear &&
+						   std::abs(mrpt::math::wrapToPi(a.phi - b.phi)) <= angular;
+		}
+	}
+	for (std::size_t i = prior; i-- > 0;)
+		if (m_retired[i]) m_initialKeyframes.remove(i);
+	// The map anew from the keyframes kept, at their final poses.
+	auto grid = std::make_shared<OccupancyDistanceGridMap>(PM_options.grid);
+	const mrpt::maps::CSimpleMap kept = m_keyframes.toSimpleMap(m_initialKeyframes);
+	for (const auto& [posePDF, sf] : kept)
+	{
+		if (!posePDF || !sf) continue;
+		const mrpt::math::TPose2D p = mrpt::poses::CPose2D(posePDF->getMeanVal()).asTPose();
+		for (const auto& obs : *sf)
+			if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(obs.get()))
+				grid->insertScan(scanToPoints(*scan, PM_options.grid.scan), p);
+	}
+	m_grid = std::move(grid);
+	m_metricMap.maps.clear();
+	m_metricMap.maps.push_back(m_grid);
+	return m_retired;
+}
+
+PoseGraph PerfectMatchSlam::outputGraph() const
+{
+	if (!m_loops) return {};
+	std::vector<bool> retired = m_retired;
+	retired.resize(m_loops->nodeCount(), false);
+	return m_loops->graphWithout(retired);
 }
 
 std::vector<mrpt::math::TPose2D> PerfectMatchSlam::correctedPriorPoses(const std::vector<mrpt::math::TPose2D>& poses,

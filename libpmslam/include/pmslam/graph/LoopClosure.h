@@ -193,6 +193,11 @@ class LoopClosure
 	void addPriorKeyframes(std::vector<PriorKeyframe> keyframes, const PoseGraph* graph);
 	/** Nodes that addPriorKeyframes() added (the first ones). */
 	std::size_t priorCount() const { return m_priorCount; }
+	/** After finish(): the graph without the nodes `retired` marks (nodes renumbered in order), for a
+	 * session that retires keyframes newer ones cover. Edges between kept nodes stay; two kept nodes that
+	 * followed each other across retired ones are tied by their relative pose as an odometry edge, so
+	 * the chain stays connected. */
+	PoseGraph graphWithout(const std::vector<bool>& retired) const;
 
 	/** What the worker handed over: the map's blocks that changed, as a map with the moved
 	 * keyframes at their optimised poses has them (give both to the front-end's map's

@@ -178,6 +178,14 @@ class PerfectMatchSlam
 	std::vector<mrpt::math::TPose2D> correctedPriorPoses(const std::vector<mrpt::math::TPose2D>& poses,
 														 const std::vector<double>& times, std::size_t firstKeyframe,
 														 std::size_t keyframes) const;
+	/** Lifelong use, after continueSession() and finishLoopClosure(): each earlier keyframe that a keyframe of
+	 * this run covers (within `linear` m and `angular` rad, final poses) is retired: out of the keyframes
+	 * (getCurrentlyBuiltMap()), and the map is rebuilt from those kept, so it shows the place as this run saw
+	 * it (a moved cabinet) and the keyframe count follows the area, not the hours driven. Returns, per
+	 * earlier keyframe, whether it was retired. outputGraph() leaves them out as well. */
+	std::vector<bool> retireCoveredKeyframes(double linear, double angular);
+	/** The pose graph to write: the back-end's, without the retired keyframes; empty without loop closure. */
+	PoseGraph outputGraph() const;
 	/** Sub-cell shift (m) applied to the last fixed map to put it on the resolution lattice
 	 * (zero for every grid pmslam or MRPT's setSize() made). */
 	mrpt::math::TPoint2D fixedMapShift() const { return m_fixedMapShift; }
@@ -289,6 +297,7 @@ class PerfectMatchSlam
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
 	std::vector<mrpt::math::TPose2D> m_priorPoses;	// continueSession's keyframes, as given
 	std::vector<double> m_priorTimes;  // and their scans' times (s)
+	std::vector<bool> m_retired;  // per continueSession keyframe: retired (retireCoveredKeyframes)
 	// Loop closure: the back-end, and the frames the front-end worked in as its maps came in.
 	std::unique_ptr<LoopClosure> m_loops;
 	FrameHistory m_frames;
