@@ -215,6 +215,8 @@ std::vector<bool> PerfectMatchSlam::retireCoveredKeyframes(double linear, double
 PoseGraph PerfectMatchSlam::outputGraph() const
 {
 	if (!m_loops) return {};
+	// Nothing retired: the graph as it is (its rejected loop edges included, written as comments).
+	if (std::none_of(m_retired.begin(), m_retired.end(), [](bool r) { return r; })) return m_loops->graph();
 	std::vector<bool> retired = m_retired;
 	retired.resize(m_loops->nodeCount(), false);
 	return m_loops->graphWithout(retired);

@@ -184,7 +184,8 @@ class PerfectMatchSlam
 	 * it (a moved cabinet) and the keyframe count follows the area, not the hours driven. Returns, per
 	 * earlier keyframe, whether it was retired. outputGraph() leaves them out as well. */
 	std::vector<bool> retireCoveredKeyframes(double linear, double angular);
-	/** The pose graph to write: the back-end's, without the retired keyframes; empty without loop closure. */
+	/** The pose graph to write: the back-end's (rejected loop edges included); after retireCoveredKeyframes()
+	 * retired some, without them (and without the rejected edges); empty without loop closure. */
 	PoseGraph outputGraph() const;
 	/** Sub-cell shift (m) applied to the last fixed map to put it on the resolution lattice
 	 * (zero for every grid pmslam or MRPT's setSize() made). */
