@@ -287,6 +287,23 @@ TEST(LoopClosure, ASecondSessionsLoopCorrectsTheFirstSession)
 	const auto truth = ringPath(1.15, kStep);
 	const std::size_t cut = ringPath(0.9, kStep).size();
 	const std::vector<TPose2D> truth1(truth.begin(), truth.begin() + long(cut)), truth2(truth.begin() + long(cut), truth.end());
+	// Scans along `path` from time t0 (s) into `s` with the ring's bad odometry: each scan's pose as reported.
+	const auto feed = [&](pmslam::PerfectMatchSlam& s, const std::vector<TPose2D>& path, double t0, unsigned seed) {
+		std::vector<TPose2D> poses;
+		const auto odo = badOdometry(path);
+		for (std::size_t k = 0; k < path.size(); ++k)
+		{
+			const double t = t0 + 0.1 * double(k);
+			auto scan = nearbyPart(world, path[k].x, path[k].y, 31).scan(path[k], 181, M_PI, 30.0, 0.01, unsigned(k) + seed);
+			scan.timestamp = mrpt::Clock::fromDouble(t);
+			s.processOdometry(odo[k], t);
+			poses.push_back(s.processScan(scan).pose);
+			for (const auto& [i, p] : s.takeSmoothedPoses()) poses[i] = p;
+		}
+		for (const auto& [i, p] : s.takeSmoothedPoses(true)) poses[i] = p;
+		s.finishLoopClosure();
+		return s.correctedTrajectory(poses);
+	};
 	// What the first session leaves: its trajectory, its keyframes at their final poses and its graph.
 	std::vector<TPose2D> first;
 	mrpt::maps::CSimpleMap keyframes;
@@ -294,19 +311,7 @@ TEST(LoopClosure, ASecondSessionsLoopCorrectsTheFirstSession)
 	{
 		pmslam::PerfectMatchSlam s;
 		s.initialize();
-		const auto odo = badOdometry(truth1);
-		for (std::size_t k = 0; k < truth1.size(); ++k)
-		{
-			const double t = 1000 + 0.1 * double(k);
-			auto scan = nearbyPart(world, truth1[k].x, truth1[k].y, 31).scan(truth1[k], 181, M_PI, 30.0, 0.01, unsigned(k + 1));
-			scan.timestamp = mrpt::Clock::fromDouble(t);
-			s.processOdometry(odo[k], t);
-			first.push_back(s.processScan(scan).pose);
-			for (const auto& [i, p] : s.takeSmoothedPoses()) first[i] = p;
-		}
-		for (const auto& [i, p] : s.takeSmoothedPoses(true)) first[i] = p;
-		s.finishLoopClosure();
-		first = s.correctedTrajectory(first);
+		first = feed(s, truth1, 1000, 1);
 		s.getCurrentlyBuiltMap(keyframes);
 		graph = s.loopClosure()->graph();
 	}
@@ -315,16 +320,7 @@ TEST(LoopClosure, ASecondSessionsLoopCorrectsTheFirstSession)
 		pmslam::PerfectMatchSlam s;
 		s.initialize();
 		s.continueSession(keyframes, &graph, first.back());
-		const auto odo = badOdometry(truth2);
-		for (std::size_t k = 0; k < truth2.size(); ++k)
-		{
-			const double t = 2000 + 0.1 * double(k);
-			auto scan = nearbyPart(world, truth2[k].x, truth2[k].y, 31).scan(truth2[k], 181, M_PI, 30.0, 0.01, unsigned(k + 7));
-			scan.timestamp = mrpt::Clock::fromDouble(t);
-			s.processOdometry(odo[k], t);
-			s.processScan(scan);
-		}
-		s.finishLoopClosure();
+		feed(s, truth2, 2000, 7);
 		std::vector<double> times;
 		for (std::size_t k = 0; k < truth1.size(); ++k) times.push_back(1000 + 0.1 * double(k));
 		return s.correctedPriorPoses(first, times, 0, keyframes.size());
