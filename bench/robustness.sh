@@ -159,6 +159,10 @@ plotdata="$work/plot.txt"; : >"$plotdata"
   done
 } >"$results/robustness.md"
 
+# The peer's bars only where it ran (ICP=0 leaves them all NaN, and gnuplot refuses a series without a point).
+plot_cmd="plot '$plotdata' using 2:xtic(1) title 'pmslam' lc rgb '#1f77b4'"
+awk '$3 != "NaN" {found=1} END {exit !found}' "$plotdata" &&
+  plot_cmd="$plot_cmd, '' using 3 title 'MRPT ICP-SLAM (tuned)' lc rgb '#d62728'"
 gnuplot <<EOF || note "plot failed"
 set terminal pngcairo size 1200,600 font "Sans,9" noenhanced
 set output '$results/robustness.png'
@@ -171,7 +175,7 @@ set yrange [0.5:*]
 set ylabel 'error / clean error'
 set xtics rotate by -60 scale 0
 set grid ytics
-plot '$plotdata' using 2:xtic(1) title 'pmslam' lc rgb '#1f77b4', '' using 3 title 'MRPT ICP-SLAM (tuned)' lc rgb '#d62728'
+$plot_cmd
 EOF
 note "wrote $results/robustness.md and robustness.png"
 exit $failed
