@@ -11,6 +11,7 @@
 #include <pmslam/util/ExceptionText.h>
 #include <pmslam/io/RawlogReader.h>
 #include <pmslam/io/SimpleMapLogReader.h>
+#include <pmslam/util/TextCase.h>
 
 #include <algorithm>
 #include <cctype>
@@ -31,18 +32,12 @@ namespace
 {
 const char* const kExpected = "expected a Carmen log (.clf/.log/.txt) or an MRPT .rawlog";
 
-std::string lower(std::string s)
-{
-	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-	return s;
-}
-
 /** Extension of the file, lower case, ignoring a trailing ".gz" or ".bz2". */
 std::string logExtension(const std::string& path)
 {
 	std::filesystem::path p(path);
-	std::string ext = lower(p.extension().string());
-	if (ext == ".gz" || ext == ".bz2") ext = lower(p.stem().extension().string());
+	std::string ext = lowerCase(p.extension().string());
+	if (ext == ".gz" || ext == ".bz2") ext = lowerCase(p.stem().extension().string());
 	return ext;
 }
 
@@ -163,7 +158,7 @@ std::unique_ptr<LogReader> LogReader::open(const std::string& path, const LogRea
 		if (ext == ".clf" || ext == ".log" || ext == ".txt")
 			throw LogError("pmslam: '" + path + "' is named as a Carmen log: --follow reads MRPT rawlogs (as rawlog-grabber "
 						   "writes them)");
-		if (lower(std::filesystem::path(path).extension().string()) == ".bz2")
+		if (lowerCase(std::filesystem::path(path).extension().string()) == ".bz2")
 			throw LogError("pmslam: '" + path + "' is named as a bzip2 file: --follow reads MRPT rawlogs (as rawlog-grabber "
 						   "writes them: plain or gz)");
 	}

@@ -1,13 +1,11 @@
 /* pmslam — the fixed map of a localisation run (see PriorMap.h). */
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/maps/CSimpleMap.h>
-#include <mrpt/serialization/CArchive.h>
 #include <pmslam/io/MapExport.h>
 #include <pmslam/io/PriorMap.h>
+#include <pmslam/io/SimpleMapFile.h>
 #include <pmslam/util/ExceptionText.h>
+#include <pmslam/util/TextCase.h>
 
 #include <algorithm>
-#include <cctype>
 #include <filesystem>
 
 namespace pmslam
@@ -16,12 +14,6 @@ namespace
 {
 const char* const kExpected =
 	"expected a ROS map.yaml, an MRPT .gridmap[.gz] or .simplemap[.gz], or a pm-slam-app output folder";
-
-bool endsWith(std::string s, const std::string& tail)
-{
-	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-	return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
 
 bool hasOccupiedCell(const mrpt::maps::COccupancyGridMap2D& g)
 {
@@ -48,20 +40,17 @@ mrpt::maps::COccupancyGridMap2D fromYaml(const std::string& path)
 
 mrpt::maps::COccupancyGridMap2D fromSimpleMap(const std::string& path, double resolution)
 {
-	mrpt::maps::CSimpleMap sm;
-	mrpt::io::CFileGZInputStream in;
-	if (!in.open(path)) throw PriorMapError(path + ": cannot open (" + kExpected + ")");
+	mrpt::maps::CSimpleMap keyframes;
 	try
 	{
-		mrpt::serialization::archiveFrom(in) >> sm;
+		keyframes = readSimpleMapFile(path);
 	}
-	catch (const std::exception& e)
+	catch (const SimpleMapFileError& e)
 	{
-		throw PriorMapError(path + ": not an MRPT simple map (" + exceptionSummary(e.what()) + ")");
+		throw PriorMapError(e.what());
 	}
-	if (sm.empty()) throw PriorMapError(path + ": the simple map has no keyframe");
 	mrpt::maps::COccupancyGridMap2D g(-10, 10, -10, 10, static_cast<float>(resolution));
-	g.loadFromSimpleMap(sm);
+	g.loadFromSimpleMap(keyframes);
 	return g;
 }
 
@@ -80,12 +69,12 @@ PriorMap loadPriorMap(const std::string& path, double simplemapResolution)
 	if (!std::filesystem::exists(path, ec)) throw PriorMapError(path + ": does not exist (" + kExpected + ")");
 	PriorMap m;
 	m.source = std::filesystem::is_directory(path, ec) ? inFolder(path) : path;
-	if (endsWith(m.source, ".yaml") || endsWith(m.source, ".yml"))
+	if (endsWithIgnoringCase(m.source, ".yaml") || endsWithIgnoringCase(m.source, ".yml"))
 	{
 		m.grid = fromYaml(m.source);
 		m.kind = "ROS map_server map";
 	}
-	else if (endsWith(m.source, ".simplemap") || endsWith(m.source, ".simplemap.gz"))
+	else if (isSimpleMapName(m.source))
 	{
 		m.grid = fromSimpleMap(m.source, simplemapResolution);
 		m.kind = "MRPT simple map";

@@ -1,12 +1,8 @@
 /* pmslam — a simple map read as a log (see SimpleMapLogReader.h). */
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/poses/CPose2D.h>
-#include <mrpt/serialization/CArchive.h>
+#include <pmslam/io/SimpleMapFile.h>
 #include <pmslam/io/SimpleMapLogReader.h>
-#include <pmslam/util/ExceptionText.h>
 
-#include <algorithm>
-#include <cctype>
 #include <filesystem>
 
 namespace pmslam
@@ -15,12 +11,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-bool endsWith(std::string s, const std::string& tail)
-{
-	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-	return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
 std::string fileOf(const std::string& path)
 {
 	return fs::is_directory(path) ? (fs::path(path) / "map.simplemap.gz").string() : path;
@@ -31,23 +21,19 @@ bool SimpleMapLogReader::accepts(const std::string& path)
 {
 	std::error_code ec;
 	if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "map.simplemap.gz", ec);
-	return endsWith(path, ".simplemap") || endsWith(path, ".simplemap.gz");
+	return isSimpleMapName(path);
 }
 
 SimpleMapLogReader::SimpleMapLogReader(const std::string& path) : LogReader(path)
 {
-	const std::string file = fileOf(path);
-	mrpt::io::CFileGZInputStream in;
-	if (!in.open(file)) throw LogError("pmslam: cannot open simple map '" + file + "'");
 	try
 	{
-		mrpt::serialization::archiveFrom(in) >> m_keyframes;
+		m_keyframes = readSimpleMapFile(fileOf(path));
 	}
-	catch (const std::exception& e)
+	catch (const SimpleMapFileError& e)
 	{
-		throw LogError("pmslam: '" + file + "' is not an MRPT simple map (" + exceptionSummary(e.what()) + ")");
+		throw LogError(std::string("pmslam: ") + e.what());
 	}
-	if (m_keyframes.empty()) throw LogError("pmslam: simple map '" + file + "' has no keyframe");
 }
 
 bool SimpleMapLogReader::next(LogEvent& ev)

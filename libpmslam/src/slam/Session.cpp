@@ -1,9 +1,8 @@
 /* pmslam — a session (see Session.h). */
 #include <mrpt/config/CConfigFile.h>
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/serialization/CArchive.h>
 #include <pmslam/io/AtomicFile.h>
 #include <pmslam/io/PriorMap.h>
+#include <pmslam/io/SimpleMapFile.h>
 #include <pmslam/slam/Session.h>
 #include <pmslam/util/ExceptionText.h>
 
@@ -26,19 +25,14 @@ std::string need(const fs::path& dir, const char* name)
 
 mrpt::maps::CSimpleMap readKeyframes(const std::string& path)
 {
-	mrpt::maps::CSimpleMap sm;
-	mrpt::io::CFileGZInputStream in;
-	if (!in.open(path)) throw SessionError(path + ": cannot open");
 	try
 	{
-		mrpt::serialization::archiveFrom(in) >> sm;
+		return readSimpleMapFile(path);
 	}
-	catch (const std::exception& e)
+	catch (const SimpleMapFileError& e)
 	{
-		throw SessionError(path + ": not an MRPT simple map (" + exceptionSummary(e.what()) + ")");
+		throw SessionError(e.what());
 	}
-	if (sm.empty()) throw SessionError(path + ": the simple map has no keyframe");
-	return sm;
 }
 
 /** session.ini's parts and resolution; false when the folder has none (written before it existed). */

@@ -1,6 +1,7 @@
 /* pmslam — configuration loading and validation (see SlamConfig.h). */
 #include <mrpt/config/CConfigFileMemory.h>
 #include <pmslam/slam/SlamConfig.h>
+#include <pmslam/util/TextCase.h>
 
 #include "IcpSlamDialect.h"
 
@@ -29,12 +30,6 @@ std::size_t editDistance(const std::string& a, const std::string& b)
 		std::swap(prev, cur);
 	}
 	return prev[b.size()];
-}
-
-std::string lowerCase(std::string s)
-{
-	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-	return s;
 }
 
 /** How much of `word` a candidate shares at its two ends (a typo or an insertion in the middle

@@ -1,5 +1,6 @@
 /* pmslam — configuration as data (see ConfigKeys.h). */
 #include <pmslam/util/ConfigKeys.h>
+#include <pmslam/util/TextCase.h>
 
 #include <algorithm>
 #include <cctype>
@@ -15,12 +16,6 @@ std::string trim(const std::string& s)
 	const auto b = s.find_first_not_of(" \t\r\n");
 	if (b == std::string::npos) return "";
 	return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
-std::string lower(std::string s)
-{
-	std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-	return s;
 }
 
 /** Shortest text that reads back as exactly `v`: plain decimals for everyday magnitudes, else "%g". */
@@ -57,7 +52,7 @@ bool isCount(const std::string& v)
 
 int boolValue(const std::string& v)	 // 1, 0, or -1 for neither
 {
-	const std::string l = lower(v);
+	const std::string l = lowerCase(v);
 	if (l == "true" || l == "1" || l == "yes") return 1;
 	if (l == "false" || l == "0" || l == "no") return 0;
 	return -1;
