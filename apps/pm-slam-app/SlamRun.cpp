@@ -3,7 +3,6 @@
 
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
 
 #include <cmath>
 

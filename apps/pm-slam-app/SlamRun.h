@@ -4,11 +4,11 @@
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <pmslam/io/LogReader.h>
-#include <pmslam/slam/Session.h>
 #include <pmslam/io/Trajectory.h>
 #include <pmslam/slam/GlobalLocalizer.h>
 #include <pmslam/slam/OdometrySelector.h>
 #include <pmslam/slam/PerfectMatchSlam.h>
+#include <pmslam/slam/Session.h>
 #include <pmslam/slam/SlamConfig.h>
 
 #include <algorithm>

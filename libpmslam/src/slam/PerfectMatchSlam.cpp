@@ -123,7 +123,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	}
 	m_mapEmpty = true;
 	m_scans = m_matched = m_inserted = m_rejected = m_ambiguous = 0;
-	m_wideSearches = m_relocalizations = m_reanchored = m_crossedWalls = m_placed = 0;
+	m_wideSearches = m_relocalizations = m_reanchored = m_crossedWalls = 0;
 	m_last = ScanResult();
 	m_lastHits.clear();
 	m_last.pose = m_last.predicted = m_pose;
@@ -134,15 +134,18 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_retired.clear();
 	m_priorTimes.clear();
 	// Re-insert a given map's keyframes at their stored poses.
-	forEachKeyframeScan(initialMap, [&](const mrpt::math::TPose2D& p, double, ScanPoints pts) {
+	forEachKeyframeScan(initialMap, *m_grid, [&](const mrpt::math::TPose2D& p, double, ScanPoints pts) {
+		m_mapEmpty = false;
 		if (m_loops) m_loops->addFixedScan(p, std::move(pts));
 	});
+	keepInitialKeyframes(initialMap);
 }
 
 template <class F>
-void PerfectMatchSlam::forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyframes, F&& f)
+void PerfectMatchSlam::forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyframes, OccupancyDistanceGridMap& grid,
+										   F&& f) const
 {
-	// Each keyframe's scans into the map at the keyframe's pose, and to `f`.
+	// Each keyframe's scans into `grid` at the keyframe's pose, and to `f`.
 	for (const auto& [posePDF, sf] : keyframes)
 	{
 		if (!posePDF || !sf) continue;
@@ -151,12 +154,18 @@ void PerfectMatchSlam::forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyfram
 			if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(obs.get()))
 			{
 				ScanPoints pts = scanToPoints(*scan, PM_options.grid.scan);
-				m_grid->insertScan(pts, p);
-				m_mapEmpty = false;
+				grid.insertScan(pts, p);
 				f(p, mrpt::Clock::toDouble(scan->timestamp), std::move(pts));
 			}
-		if (PM_options.keepSimpleMap) m_initialKeyframes.insert(posePDF, sf);
 	}
+}
+
+void PerfectMatchSlam::keepInitialKeyframes(const mrpt::maps::CSimpleMap& keyframes)
+{
+	// Written back out as given (saveSimpleMap), ahead of this run's keyframes.
+	if (!PM_options.keepSimpleMap) return;
+	for (const auto& [posePDF, sf] : keyframes)
+		if (posePDF && sf) m_initialKeyframes.insert(posePDF, sf);
 }
 
 void PerfectMatchSlam::continueSession(const mrpt::maps::CSimpleMap& keyframes, const PoseGraph* graph,
@@ -166,13 +175,15 @@ void PerfectMatchSlam::continueSession(const mrpt::maps::CSimpleMap& keyframes, 
 	initialize(mrpt::maps::CSimpleMap(), &x0);
 	std::lock_guard<std::mutex> lock(mapMutex());
 	std::vector<LoopClosure::PriorKeyframe> prior;
-	forEachKeyframeScan(keyframes, [&](const mrpt::math::TPose2D& p, double t, ScanPoints pts) {
+	forEachKeyframeScan(keyframes, *m_grid, [&](const mrpt::math::TPose2D& p, double t, ScanPoints pts) {
+		m_mapEmpty = false;
 		m_priorPoses.push_back(p);
 		m_priorTimes.push_back(t);
 		if (!m_loops) return;
 		m_frames.addKeyframe(p);
 		prior.push_back({p, t, std::move(pts)});
 	});
+	keepInitialKeyframes(keyframes);
 	if (m_loops) m_loops->addPriorKeyframes(std::move(prior), graph);
 }
 
@@ -197,15 +208,7 @@ std::vector<bool> PerfectMatchSlam::retireCoveredKeyframes(double linear, double
 		if (m_retired[i]) m_initialKeyframes.remove(i);
 	// The map anew from the keyframes kept, at their final poses.
 	auto grid = std::make_shared<OccupancyDistanceGridMap>(PM_options.grid);
-	const mrpt::maps::CSimpleMap kept = m_keyframes.toSimpleMap(m_initialKeyframes);
-	for (const auto& [posePDF, sf] : kept)
-	{
-		if (!posePDF || !sf) continue;
-		const mrpt::math::TPose2D p = mrpt::poses::CPose2D(posePDF->getMeanVal()).asTPose();
-		for (const auto& obs : *sf)
-			if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(obs.get()))
-				grid->insertScan(scanToPoints(*scan, PM_options.grid.scan), p);
-	}
+	forEachKeyframeScan(m_keyframes.toSimpleMap(m_initialKeyframes), *grid, [](auto&&...) {});
 	m_grid = std::move(grid);
 	m_metricMap.maps.clear();
 	m_metricMap.maps.push_back(m_grid);
@@ -414,7 +417,6 @@ void PerfectMatchSlam::placeAt(const mrpt::math::TPose2D& pose)
 	m_pose = m_last.pose = pose;
 	m_gate.emplace(gateOptions(PM_options), m_pose);
 	m_rivals->clear();
-	++m_placed;
 }
 
 double PerfectMatchSlam::untrackedFor(double now) const { return m_tracker->lostFor(now); }

@@ -244,8 +244,6 @@ class PerfectMatchSlam
 	std::size_t reanchorings() const { return m_reanchored; }
 	/** On a fixed map: matches rejected because their beams crossed the map's walls (D47). */
 	std::size_t wallCrossings() const { return m_crossedWalls; }
-	/** Times placeAt() moved the robot. */
-	std::size_t placements() const { return m_placed; }
 
 	/** The robot is at `pose` now, as something other than the tracker found (a global search on
 	 * a fixed map after tracking was lost): the next scan is predicted from there. */
@@ -292,7 +290,7 @@ class PerfectMatchSlam
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	bool m_mapEmpty = true;
 	std::size_t m_scans = 0, m_matched = 0, m_inserted = 0, m_rejected = 0, m_ambiguous = 0;
-	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0, m_crossedWalls = 0, m_placed = 0;
+	std::size_t m_wideSearches = 0, m_relocalizations = 0, m_reanchored = 0, m_crossedWalls = 0;
 	ScanResult m_last;
 	std::vector<mrpt::math::TPoint2Df> m_lastHits;	// of the last matched scan (robot frame)
 	mrpt::math::TPoint2D m_fixedMapShift{0, 0};
@@ -308,7 +306,8 @@ class PerfectMatchSlam
 							 const std::optional<mrpt::math::TPose2D>& odometryAtScan);
 	bool crossesWalls(const ScanPoints& pts, const mrpt::math::TPose2D& pose) const;
 	template <class F>
-	void forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyframes, F&& f);
+	void forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyframes, OccupancyDistanceGridMap& grid, F&& f) const;
+	void keepInitialKeyframes(const mrpt::maps::CSimpleMap& keyframes);
 	Hypothesis searchOrFollowRivals(const ScanPoints& pts, const ScanResult& r, const SearchWindow& window);
 	std::optional<TrackingState> matchScan(const mrpt::obs::CObservation2DRangeScan& scan, const ScanPoints& pts,
 										   const MotionPrediction& motion, const SearchWindow& window,
