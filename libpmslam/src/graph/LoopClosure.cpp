@@ -40,6 +40,12 @@ mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m)
 // m: a search window up to which agreeingMatches verified matches, and 4 refined peaks, are enough.
 constexpr double kWideWindow = 4.0;
 
+// Local maps for verification (D50): built over whole chunks of kLocalMapChunk metres of path and with a
+// distance layer whose reach is rounded up to kReachStep metres, so that attempts a metre or two apart share one;
+// the last kCachedLocalMaps (two visits are verified per attempt) are kept.
+constexpr double kLocalMapChunk = 4.0, kReachStep = 0.25;
+constexpr std::size_t kCachedLocalMaps = 4;
+
 // A whole-map search (D46): the distinct places taken (within 0.8 of the best's score), the window each is
 // verified in (the coarse-to-fine search's places are exact on its lattice; PM refines within a cell or two),
 // and how near a keyframe from before the loss must be to a place for its visit's local map to hold it.
@@ -301,7 +307,9 @@ void LoopClosure::linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian)
 	std::vector<std::pair<double, std::size_t>> near;
 	for (std::size_t i = 0; i < node && n.travel - m_nodes[i].travel >= m_opts.minTravel; ++i)
 	{
-		const double d = distance(m_nodes[i].mapPose, n.mapPose);
+		const TPose2D& p = m_nodes[i].mapPose;
+		if (std::abs(p.x - n.mapPose.x) > kRadius || std::abs(p.y - n.mapPose.y) > kRadius) continue;
+		const double d = distance(p, n.mapPose);
 		if (d <= kRadius) near.emplace_back(d, i);
 	}
 	if (near.empty()) return;
@@ -417,6 +425,7 @@ std::vector<LoopClosure::Update> LoopClosure::finish()
 	patchMoved(0.0, 1e-6, r);
 	if (auto u = take(std::move(r))) out.push_back(std::move(*u));
 	m_stats.backendSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	m_localMaps.clear();  // no verification after the end
 	m_stats.rejected = m_stats.revisitsRejected = 0;
 	const auto& edges = m_graph.edges();
 	for (std::size_t i = 0; i < edges.size(); ++i)
@@ -434,6 +443,7 @@ std::size_t LoopClosure::memoryBytes() const
 		b += sizeof(ScanPoints) + (n.scan->hits.capacity() + n.scan->freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
 	for (const auto& [pose, scan] : m_fixed)
 		b += (scan.hits.capacity() + scan.freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
+	for (const auto& c : m_localMaps) b += c.map->memoryBytes() + c.keyframes.capacity() * sizeof(c.keyframes[0]);
 	// The graph: a map node and an edge record each (std::map nodes hold ~4 pointers of overhead).
 	b += m_graph.nodeCount() * (sizeof(TPose2D) + sizeof(PoseGraph::NodeId) + 4 * sizeof(void*)) +
 		 m_graph.edgeCount() * sizeof(PoseGraphEdge);
@@ -482,12 +492,16 @@ void LoopClosure::detect(std::size_t node)
 	};
 	std::vector<Candidate> runs;
 	double lastIn = -1e18;
-	for (std::size_t i = 0; i < node; ++i)
+	auto graphPose = m_graph.poses().begin();  // node i's (the ids are 0, 1, …): no lookup per node
+	for (std::size_t i = 0; i < node; ++i, ++graphPose)
 	{
 		const double back = n.travel - m_nodes[i].travel;
 		if (back < m_opts.minTravel) break;	 // travel grows with the id
-		const double d = distance(m_graph.pose(i), x);
-		if (d > radius(back)) continue;
+		const TPose2D& p = graphPose->second;
+		const double r = radius(back);
+		if (std::abs(p.x - x.x) > r || std::abs(p.y - x.y) > r) continue;  // the cheap test first
+		const double d = distance(p, x);
+		if (d > r) continue;
 		if (runs.empty() || m_nodes[i].travel - lastIn > m_opts.localMapExtent)
 			runs.push_back({i, d});
 		else if (d < runs.back().d)
@@ -664,19 +678,20 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	// visit, and with it in the map a look-alike part of the visit cannot win unseen). Its distance
 	// layer reaches as far as the coarse lattice steps (coarseToFine), so that a coarse pose next to
 	// the right one still scores.
+	//
+	// The stretch is widened to whole chunks of kLocalMapChunk metres of path, and the distance layer's
+	// reach rounded up to kReachStep, so that the attempts of the next metres, whose candidates lie a
+	// little further along the same visit, find that local map built already (localMap()).
 	const double extent = std::max(m_opts.localMapExtent, linWindow);
-	OccupancyGridUpdateOptions localOpts = m_gridOpts;
-	localOpts.maxDistance = std::max(localOpts.maxDistance, std::min(2.0, 1.5 * linWindow / 8));
-	OccupancyDistanceGridMap local(localOpts);
-	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
+	const double from = std::floor((centre - extent) / kLocalMapChunk) * kLocalMapChunk;
+	const double to = std::ceil((centre + extent) / kLocalMapChunk) * kLocalMapChunk;
+	const double reach = std::min(2.0, 1.5 * linWindow / 8);
+	const double maxDistance =
+		reach <= m_gridOpts.maxDistance ? m_gridOpts.maxDistance : std::ceil(reach / kReachStep) * kReachStep;
 	std::size_t lo = candidate;
-	while (lo > 0 && centre - m_nodes[lo - 1].travel <= extent) --lo;
-	for (std::size_t i = lo; i < node; ++i)
-	{
-		if (m_nodes[i].travel - centre > extent || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
-		scans.emplace_back(m_graph.pose(i), m_nodes[i].scan.get());
-	}
-	local.insertScans(scans);
+	while (lo > 0 && m_nodes[lo - 1].travel >= from) --lo;
+	const std::shared_ptr<const OccupancyDistanceGridMap> localPtr = localMap(node, lo, to, maxDistance);
+	const OccupancyDistanceGridMap& local = *localPtr;
 	const DynamicDistanceMap& dm = local.distanceMap();
 	const std::vector<mrpt::math::TPoint2Df>& hits = n.scan->hits;
 	const TPose2D x = searchCentre ? *searchCentre : m_graph.pose(node);
@@ -728,6 +743,42 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	m.information = toEdgeFrame(best.info.hessian / m_opts.informationScale, xc.phi) + kLoopFloor;
 	m.window = linWindow;
 	return m;
+}
+
+std::shared_ptr<const OccupancyDistanceGridMap> LoopClosure::localMap(std::size_t node, std::size_t first,
+																	   double lastTravel, double maxDistance)
+{
+	const Node& n = m_nodes[node];
+	CachedLocalMap want;
+	want.maxDistance = maxDistance;
+	for (std::size_t i = first; i < node; ++i)
+	{
+		if (m_nodes[i].travel > lastTravel || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
+		want.keyframes.emplace_back(i, m_graph.pose(i));
+	}
+	const auto same = [&](const CachedLocalMap& c) {
+		return c.maxDistance == want.maxDistance && c.keyframes.size() == want.keyframes.size() &&
+			   std::equal(c.keyframes.begin(), c.keyframes.end(), want.keyframes.begin(), [](const auto& a, const auto& b) {
+				   return a.first == b.first && a.second.x == b.second.x && a.second.y == b.second.y &&
+						  a.second.phi == b.second.phi;
+			   });
+	};
+	const auto hit = std::find_if(m_localMaps.begin(), m_localMaps.end(), same);
+	if (hit != m_localMaps.end())
+	{
+		std::rotate(m_localMaps.begin(), hit, hit + 1);	 // most recently used first
+		return m_localMaps.front().map;
+	}
+	OccupancyGridUpdateOptions opts = m_gridOpts;
+	opts.maxDistance = maxDistance;
+	auto map = std::make_shared<OccupancyDistanceGridMap>(opts);
+	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
+	for (const auto& [i, pose] : want.keyframes) scans.emplace_back(pose, m_nodes[i].scan.get());
+	map->insertScans(scans);
+	want.map = std::move(map);
+	m_localMaps.insert(m_localMaps.begin(), std::move(want));
+	if (m_localMaps.size() > kCachedLocalMaps) m_localMaps.pop_back();
+	return m_localMaps.front().map;
 }
 
 TPose2D LoopClosure::disagreement(const Match& a, const Match& b) const

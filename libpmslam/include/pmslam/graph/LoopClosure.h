@@ -281,6 +281,11 @@ class LoopClosure
 	// around `centre` (default: where the graph has the keyframe).
 	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow,
 								const std::optional<mrpt::math::TPose2D>& centre = std::nullopt);
+	// The local map of the keyframes from `first` on whose travel is at most `lastTravel` (and at least
+	// minTravel behind `node`), at their graph poses, with a distance layer reaching `maxDistance`: from
+	// the cache when those keyframes have not moved since it was built.
+	std::shared_ptr<const OccupancyDistanceGridMap> localMap(std::size_t node, std::size_t first, double lastTravel,
+															 double maxDistance);
 	// The likelihood pyramids (fine, coarse) of the map of every keyframe before the loss, built once
 	// per loss.
 	const std::pair<LikelihoodPyramid, LikelihoodPyramid>& mapBeforeLoss();
@@ -325,6 +330,15 @@ class LoopClosure
 	double m_lastGlobal = -1e18;  // travel (m) at the last whole-map search
 	std::size_t m_pyramidsBefore = SIZE_MAX;  // m_beforeLoss holds the keyframes [0, this)
 	std::unique_ptr<std::pair<LikelihoodPyramid, LikelihoodPyramid>> m_beforeLoss;
+	// Local maps verified against lately, newest first (the worker's only): consecutive attempts at one
+	// place verify against the same stretch of an earlier visit.
+	struct CachedLocalMap
+	{
+		std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> keyframes;  // id and pose it was built from
+		double maxDistance = 0;
+		std::shared_ptr<const OccupancyDistanceGridMap> map;
+	};
+	std::vector<CachedLocalMap> m_localMaps;
 	std::vector<float> m_goodness;	// of the last tracked keyframes' matches (a ring)
 	std::size_t m_goodnessNext = 0;
 	bool m_handedOver = false;	// sync() just handed a new grid over: the front-end matched the old one
