@@ -68,6 +68,29 @@ inline float fastLog(float y)
 	return (exponent + log2m) * 0.69314718f;
 }
 
+// Per-point terms of one evaluation, laid out for gradientAndFastCost's second pass: arrays of
+// floats padded with zeros to a whole number of lanes. One buffer per thread, reused.
+constexpr std::size_t kLanes = 8;
+struct Terms
+{
+	std::vector<float> d, dU, dV, ru, rv;
+	std::size_t padded = 0;
+	void resize(std::size_t n)
+	{
+		padded = (n + kLanes - 1) / kLanes * kLanes;
+		for (auto* v : {&d, &dU, &dV, &ru, &rv})
+		{
+			if (v->size() < padded) v->resize(padded);
+			std::fill(v->begin() + std::ptrdiff_t(n), v->begin() + std::ptrdiff_t(padded), 0.0f);
+		}
+	}
+};
+Terms& terms()
+{
+	thread_local Terms t;
+	return t;
+}
+
 class CostFunction
 {
    public:
@@ -156,13 +179,16 @@ class CostFunction
 	// The RPROP iteration: gradient (and the approximate cost) only, in float cell units
 	// relative to the cell under the pose, so single precision stays exact to ~1e-4 cell
 	// however far the robot is from the origin. Same cost and gradient as the general path.
+	//
+	// Two passes: the map lookups, one point at a time (a gather from the blocks), then the
+	// per-point terms and their sums in kLanes independent float lanes, which the compiler turns
+	// into vector instructions (one running sum would chain every point on the one before).
 	Evaluation gradientAndFastCost(const Eigen::Vector3d& x, bool withCost) const
 	{
 		Evaluation e;
 		const double inv = 1.0 / m_map.resolution();
 		const double u0 = x[0] * inv - 0.5, v0 = x[1] * inv - 0.5;	// cell-centre lattice
 		const float far = static_cast<float>(m_map.maxDistance());
-		double g0 = 0, g1 = 0, g2 = 0, cost = 0;
 		const std::size_t n = (m_pts.size() + m_step - 1) / m_step;
 		if (!(std::abs(u0) < 1e9 && std::abs(v0) < 1e9))
 		{
@@ -177,13 +203,17 @@ class CostFunction
 		const float fu = static_cast<float>(u0 - bu), fv = static_cast<float>(v0 - bv);
 		const float cs = static_cast<float>(std::cos(x[2]) * inv), sn = static_cast<float>(std::sin(x[2]) * inv);
 		const float c0 = static_cast<float>(std::cos(x[2])), s0 = static_cast<float>(std::sin(x[2]));
-		const float invS2 = static_cast<float>(m_invS2);
-		for (std::size_t i = 0; i < m_pts.size(); i += m_step)
+
+		// Pass 1: distance, its gradient (per cell) and the rotated point (cells), per point.
+		Terms& t = terms();
+		t.resize(n);
+		std::size_t k = 0;
+		for (std::size_t i = 0; i < m_pts.size(); i += m_step, ++k)
 		{
 			const float px = m_pts[i].x, py = m_pts[i].y;
 			const float ru = cs * px - sn * py, rv = sn * px + cs * py;	// rotated point, cells
 			const float u = fu + ru, v = fv + rv;
-			float d, dU = 0, dV = 0;
+			float d = far, dU = 0, dV = 0;
 			if (std::abs(u) < 1e8f && std::abs(v) < 1e8f)
 			{
 				int iu = static_cast<int>(u), iv = static_cast<int>(v);
@@ -192,21 +222,42 @@ class CostFunction
 				d = m_map.sampleBilinear(baseI + iu, baseJ + iv, u - iu, v - iv, dU, dV);
 				if (m_normals) project(m_normals[i], c0, s0, dU, dV);
 			}
-			else
-				d = far;
-			const float ratio = 1.0f + d * d * invS2;	 // (σ² + Δ²) / σ²
-			const float k = 2.0f * d * invS2 / ratio;  // d ln(σ²+Δ²) / dΔ
-			// Chain rule through the endpoint's pose Jacobian: ∂u/∂θ = −rv, ∂v/∂θ = ru (cells).
-			g0 += k * dU;
-			g1 += k * dV;
-			g2 += k * (dV * ru - dU * rv);
-			if (withCost) cost += fastLog(ratio);
+			t.d[k] = d;
+			t.dU[k] = dU;
+			t.dV[k] = dV;
+			t.ru[k] = ru;
+			t.rv[k] = rv;
 		}
+
+		// Pass 2: d ln(σ²+Δ²)/dΔ = 2Δ/(σ²+Δ²) chained through the endpoint's pose Jacobian
+		// (∂u/∂θ = −rv, ∂v/∂θ = ru, cells), and the cost ln(1 + Δ²/σ²); the points that do not
+		// fill a last group of lanes go in as Δ = 0 (no gradient) and leave the cost alone.
+		const float invS2 = static_cast<float>(m_invS2);
+		const float* __restrict D = t.d.data();
+		const float* __restrict DU = t.dU.data();
+		const float* __restrict DV = t.dV.data();
+		const float* __restrict RU = t.ru.data();
+		const float* __restrict RV = t.rv.data();
+		float g0[kLanes] = {}, g1[kLanes] = {}, g2[kLanes] = {}, cost[kLanes] = {};
+		for (std::size_t b = 0; b < t.padded; b += kLanes)
+			for (std::size_t l = 0; l < kLanes; ++l)
+			{
+				const float d = D[b + l], dU = DU[b + l], dV = DV[b + l];
+				const float ratio = 1.0f + d * d * invS2;  // (σ² + Δ²) / σ²
+				const float kk = 2.0f * d * invS2 / ratio;
+				g0[l] += kk * dU;
+				g1[l] += kk * dV;
+				g2[l] += kk * (dV * RU[b + l] - dU * RV[b + l]);
+				cost[l] += fastLog(ratio);
+			}
+		double G0 = 0, G1 = 0, G2 = 0, C = 0;
+		for (std::size_t l = 0; l < kLanes; ++l) G0 += g0[l], G1 += g1[l], G2 += g2[l], C += cost[l];
 		e.n = n;
-		e.cost = cost;
+		// The padding's Δ = 0 added fastLog(1) (not quite 0) to the cost each.
+		e.cost = withCost ? C - double(t.padded - n) * fastLog(1.0f) : 0.0;
 		// dU, dV and the θ term are per cell: ×1/resolution gives per metre (θ: cells × m/cell
 		// cancels to the same units as the general path).
-		e.gradient = Eigen::Vector3d(g0 * inv, g1 * inv, g2);
+		e.gradient = Eigen::Vector3d(G0 * inv, G1 * inv, G2);
 		if (m_prior) addPrior(x, withCost ? kCost : kGradient, e);
 		return e;
 	}

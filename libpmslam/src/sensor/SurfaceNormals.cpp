@@ -12,15 +12,20 @@ std::vector<mrpt::math::TPoint2Df> surfaceNormals(const std::vector<mrpt::math::
 	constexpr float kMaxGap = 5.0f;  // m to the next return: beyond, no surface between them
 	std::vector<mrpt::math::TPoint2Df> n(pts.size(), mrpt::math::TPoint2Df(0, 0));
 	const int count = static_cast<int>(pts.size());
-	auto dist = [&](int a, int b) { return std::hypot(pts[a].x - pts[b].x, pts[a].y - pts[b].y); };
+	// Squared distances against squared limits: this runs for every point of every matched scan.
+	constexpr float kSpan2 = kSpan * kSpan, kMaxGap2 = kMaxGap * kMaxGap;
+	auto dist2 = [&](int a, int b) {
+		const float dx = pts[a].x - pts[b].x, dy = pts[a].y - pts[b].y;
+		return dx * dx + dy * dy;
+	};
 	for (int i = 0; i < count; ++i)
 	{
 		// The neighbours within kSpan each side, and at least the next one each side however far
 		// (far returns on a wall seen at a grazing angle are metres apart: the fit decides).
 		int a = i - 1, b = i + 1;
-		if (a < 0 || b >= count || dist(a, i) > kMaxGap || dist(b, i) > kMaxGap) continue;
-		while (a > 0 && i - a < kMaxSteps && dist(a - 1, i) <= kSpan) --a;
-		while (b + 1 < count && b - i < kMaxSteps && dist(b + 1, i) <= kSpan) ++b;
+		if (a < 0 || b >= count || dist2(a, i) > kMaxGap2 || dist2(b, i) > kMaxGap2) continue;
+		while (a > 0 && i - a < kMaxSteps && dist2(a - 1, i) <= kSpan2) --a;
+		while (b + 1 < count && b - i < kMaxSteps && dist2(b + 1, i) <= kSpan2) ++b;
 		// Line fit (principal axis) of the window's points; its scatter across the line must be
 		// range noise, not a corner or clutter.
 		double mx = 0, my = 0;

@@ -65,7 +65,7 @@ class PerfectMatchMatcher
 		double rpropMaxStepXY = 0.2, rpropMaxStepPhi = 0.1;	 ///< RPROP step bounds (m, rad)
 		/** Gauss-Newton steps on the same cost after RPROP, to settle on the minimum (0 = pure RPROP). */
 		unsigned rpropRefineIterations = 0;
-		double minStepXY = 1e-4, minStepPhi = 1e-4;	 ///< converged when every step is below these
+		double minStepXY = 1e-3, minStepPhi = 1e-3;	 ///< converged when every step is below these (D51)
 		unsigned decimation = 1;  ///< use every k-th point of m2
 		/** PerfectMatchAligner with a stock COccupancyGridMap2D: truncation (m) of the distance layer
 		 * built on demand, and the occupancy probability above which a cell is an obstacle. */
