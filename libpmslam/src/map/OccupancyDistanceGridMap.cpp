@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -254,11 +255,20 @@ void OccupancyDistanceGridMap::addBlocksTouched(const ScanPoints& scan, const mr
 {
 	checkScan(scan, pose);
 	using Blocks = SparseOccupancyGrid::Blocks;
+	// A beam stays in one block for up to 32 cells: only a change of block is worth adding (the mask
+	// would skip the repeats too, at a call per cell).
+	int lastX = std::numeric_limits<int>::min(), lastY = lastX;
+	const auto add = [&](int cx, int cy) {
+		const int bx = Blocks::blockOf(cx), by = Blocks::blockOf(cy);
+		if (bx == lastX && by == lastY) return;
+		lastX = bx, lastY = by;
+		blocks.add(bx, by);
+	};
 	rasterize(
-		scan, pose, [&](int x, int y, int) { blocks.add(Blocks::blockOf(x), Blocks::blockOf(y)); },
+		scan, pose, [&](int x, int y, int) { add(x, y); },
 		[&](int x, int y, int ex, int ey, int) {
 			forEachCellOnLine(x, y, ex, ey, [&](int cx, int cy) {
-				blocks.add(Blocks::blockOf(cx), Blocks::blockOf(cy));  // BlockMask skips the repeats
+				add(cx, cy);
 				return true;
 			});
 		});
