@@ -27,26 +27,25 @@ std::vector<mrpt::math::TPoint2Df> surfaceNormals(const std::vector<mrpt::math::
 		while (a > 0 && i - a < kMaxSteps && dist2(a - 1, i) <= kSpan2) --a;
 		while (b + 1 < count && b - i < kMaxSteps && dist2(b + 1, i) <= kSpan2) ++b;
 		// Line fit (principal axis) of the window's points; its scatter across the line must be
-		// range noise, not a corner or clutter.
-		double mx = 0, my = 0;
+		// range noise, not a corner or clutter. One pass, about point i (the window's points are
+		// within centimetres of it: the sums stay well conditioned).
 		const int m = b - a + 1;
-		for (int k = a; k <= b; ++k) mx += pts[k].x, my += pts[k].y;
-		mx /= m;
-		my /= m;
-		double sxx = 0, sxy = 0, syy = 0;
+		double sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
 		for (int k = a; k <= b; ++k)
 		{
-			const double dx = pts[k].x - mx, dy = pts[k].y - my;
-			sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
+			const double dx = pts[k].x - pts[i].x, dy = pts[k].y - pts[i].y;
+			sx += dx, sy += dy, sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
 		}
+		sxx -= sx * sx / m, sxy -= sx * sy / m, syy -= sy * sy / m;	 // about the window's mean
 		const double tr = sxx + syy, det = sxx * syy - sxy * sxy;
 		const double small = 0.5 * tr - std::sqrt(std::max(0.0, 0.25 * tr * tr - det));  // smaller eigenvalue
-		const double tol = 0.01 + 0.005 * std::hypot(pts[i].x, pts[i].y);
+		const double range2 = double(pts[i].x) * pts[i].x + double(pts[i].y) * pts[i].y;
+		const double tol = 0.01 + 0.005 * std::sqrt(range2);
 		if (!(tr > 0) || small / m > tol * tol) continue;
 		// Normal: the eigenvector of the smaller eigenvalue.
 		double nx = sxy, ny = small - sxx;
-		if (std::hypot(nx, ny) < 1e-12) nx = sxx <= syy ? 1 : 0, ny = sxx <= syy ? 0 : 1;
-		const double len = std::hypot(nx, ny);
+		if (nx * nx + ny * ny < 1e-24) nx = sxx <= syy ? 1 : 0, ny = sxx <= syy ? 0 : 1;
+		const double len = std::sqrt(nx * nx + ny * ny);
 		n[i] = mrpt::math::TPoint2Df(static_cast<float>(nx / len), static_cast<float>(ny / len));
 	}
 	return n;
