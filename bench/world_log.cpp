@@ -1,9 +1,14 @@
-/* pm-world-log — synthetic worlds for the memory benchmark (bench/memory.sh), written as Carmen logs.
+/* pm-world-log — synthetic worlds for the memory and speed benchmarks (bench/memory.sh, bench/speed.sh), written
+ * as Carmen logs.
  *
  *   pm-world-log campus OUT.clf   a 1 km × 1 km campus: a loop of 3 m corridors 1300 m and 114 m long
  *                                 at 45° to the first pose (the robot starts at a corner facing between
  *                                 the two corridors), walls with doorways and pilasters every 3–8 m
  *   pm-world-log hall OUT.clf     an open 60 m × 40 m hall with a pillar every 6 m, driven in lanes
+ *   pm-world-log hospital OUT.clf a 120 m × 60 m floor for bench/speed.sh: 2.4 m corridors round it and
+ *                                 across its middle, glass along the middle corridor (60 % of the beams
+ *                                 that meet it go through), driven round twice (loops to close), with two
+ *                                 logging gaps of 10 s (the robot drives on, nothing is logged)
  *
  * Beside OUT.clf, OUT.relations holds the ground truth for pm-slam-eval.
  *
@@ -29,7 +34,9 @@ namespace
 struct Segment
 {
 	double x0, y0, x1, y1;
+	bool glass = false;	 // a beam meeting it returns with probability kGlassReturns, else goes through
 };
+constexpr double kGlassReturns = 0.4;
 
 // Segments bucketed in square cells, so a ray only meets the segments near its robot.
 class World
@@ -69,8 +76,10 @@ class World
 	}
 
 	// Ranges of a fan of beams from (x, y) facing `heading`; misses are `noReturn`.
-	std::vector<double> scan(double x, double y, double heading, int beams, double maxRange, double noReturn) const
+	std::vector<double> scan(double x, double y, double heading, int beams, double maxRange, double noReturn,
+							 std::mt19937& rng) const
 	{
+		std::bernoulli_distribution returns(kGlassReturns);
 		std::vector<std::size_t> near;
 		const int r = int(maxRange / m_cell) + 1;
 		const int cx = int((x - m_x0) / m_cell), cy = int((y - m_y0) / m_cell);
@@ -92,7 +101,7 @@ class World
 				if (std::abs(den) < 1e-12) continue;
 				const double wx = s.x0 - x, wy = s.y0 - y;
 				const double t = (wx * ey - wy * ex) / den, u = (wx * dy - wy * dx) / den;
-				if (t > 1e-9 && u >= 0 && u <= 1 && t < best) best = t;
+				if (t > 1e-9 && u >= 0 && u <= 1 && t < best && (!s.glass || returns(rng))) best = t;
 			}
 			if (best < maxRange) out[std::size_t(b)] = best;
 		}
@@ -159,8 +168,13 @@ class PathBuilder
 	std::vector<Pose> poses;
 };
 
-void writeCarmen(const World& w, const std::vector<Pose>& truth, const std::string& path)
+// `unlogged`: ranges [first, last) of poses driven but not logged (a logging gap).
+void writeCarmen(const World& w, const std::vector<Pose>& truth, const std::string& path,
+				 const std::vector<std::pair<std::size_t, std::size_t>>& unlogged = {})
 {
+	const auto logged = [&](std::size_t k) {
+		return std::none_of(unlogged.begin(), unlogged.end(), [&](const auto& g) { return k >= g.first && k < g.second; });
+	};
 	std::ofstream out(path);
 	if (!out) throw std::runtime_error("cannot write " + path);
 	out << "# synthetic world log written by pm-world-log (pmslam bench)\nPARAM robot_front_laser_max 30 nohost 0\n";
@@ -179,7 +193,8 @@ void writeCarmen(const World& w, const std::vector<Pose>& truth, const std::stri
 			const double dist = std::hypot(d.x(), d.y());
 			odo = odo + mrpt::poses::CPose2D(1.01 * d.x(), 1.01 * d.y(), d.phi() + dist * 0.1 * M_PI / 180);
 		}
-		const auto r = w.scan(truth[k].x, truth[k].y, truth[k].phi, 181, 30.0, 81.9);
+		if (!logged(k)) continue;
+		const auto r = w.scan(truth[k].x, truth[k].y, truth[k].phi, 181, 30.0, 81.9, rng);
 		const double t = 1000.0 + 0.1 * double(k);
 		out << "FLASER 181";
 		for (double v : r)
@@ -200,7 +215,7 @@ void writeCarmen(const World& w, const std::vector<Pose>& truth, const std::stri
 	for (std::size_t k = 0; k < truth.size(); k += 10)
 		for (std::size_t gap : {std::size_t(10), std::size_t(1000)})
 		{
-			if ((gap == 1000 && k % 100) || k + gap >= truth.size()) continue;
+			if ((gap == 1000 && k % 100) || k + gap >= truth.size() || !logged(k) || !logged(k + gap)) continue;
 			const mrpt::poses::CPose2D a(truth[k].x, truth[k].y, truth[k].phi),
 				b(truth[k + gap].x, truth[k + gap].y, truth[k + gap].phi);
 			const mrpt::poses::CPose2D d = b - a;
@@ -282,21 +297,71 @@ void hall(const std::string& path)
 	p.forward(W - 6, step);
 	writeCarmen(w, p.poses, path);
 }
+void hospital(const std::string& path)
+{
+	World w;
+	std::mt19937 rng(13);
+	const double W = 120, H = 60, c = 2.4;	// floor and corridor width
+	// Features go into the wall's right side: the outer wall counter-clockwise, the two blocks of rooms
+	// between the corridors clockwise; the middle corridor's south side is glass over 40 m.
+	featuredWall(w, 0, 0, W, 0, rng);
+	featuredWall(w, W, 0, W, H, rng);
+	featuredWall(w, W, H, 0, H, rng);
+	featuredWall(w, 0, H, 0, 0, rng);
+	const double mid = H / 2;
+	for (const auto& [y0, y1] : {std::pair<double, double>(c, mid - c / 2), {mid + c / 2, H - c}})
+	{
+		featuredWall(w, c, y0, c, y1, rng);
+		featuredWall(w, c, y1, W - c, y1, rng);
+		featuredWall(w, W - c, y1, W - c, y0, rng);
+		featuredWall(w, W - c, y0, c, y0, rng);
+	}
+	for (auto& seg : w.segments)
+		if (seg.y0 == mid - c / 2 && seg.y1 == seg.y0 && std::min(seg.x0, seg.x1) > 40 && std::max(seg.x0, seg.x1) < 80)
+			seg.glass = true;
+	w.index(5.0);
+	// Round the floor by the middle corridor and back by the outer ones, twice.
+	PathBuilder p(c / 2, c / 2, 0);
+	const double step = 0.1, lane = W - c, half = mid - c / 2;
+	for (int round = 0; round < 2; ++round)
+	{
+		p.forward(lane, step);
+		p.turnTo(M_PI / 2, 20);
+		p.forward(half, step);
+		p.turnTo(M_PI, 20);
+		p.forward(lane, step);
+		p.turnTo(M_PI / 2, 20);
+		p.forward(H - c - half, step);
+		p.turnTo(0, 20);
+		p.forward(lane, step);
+		p.turnTo(-M_PI / 2, 20);
+		p.forward(H - c, step);
+		p.turnTo(M_PI, 20);
+		p.forward(lane, step);
+		p.turnTo(0, 20);
+	}
+	// Two logging gaps of 10 s, on the first round's middle corridor and on the second round's top one.
+	const std::size_t n = p.poses.size();
+	writeCarmen(w, p.poses, path, {{n / 8, n / 8 + 100}, {n * 5 / 8, n * 5 / 8 + 100}});
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
-	if (argc != 3 || (std::string(argv[1]) != "campus" && std::string(argv[1]) != "hall"))
+	const std::string world = argc == 3 ? argv[1] : "";
+	if (world != "campus" && world != "hall" && world != "hospital")
 	{
-		std::cerr << "usage: pm-world-log campus|hall OUT.clf\n";
+		std::cerr << "usage: pm-world-log campus|hall|hospital OUT.clf\n";
 		return 2;
 	}
 	try
 	{
-		if (std::string(argv[1]) == "campus")
+		if (world == "campus")
 			campus(argv[2]);
-		else
+		else if (world == "hall")
 			hall(argv[2]);
+		else
+			hospital(argv[2]);
 	}
 	catch (const std::exception& e)
 	{
