@@ -69,14 +69,8 @@ std::vector<CorrelativeSearch::Candidate> CorrelativeSearch::search(const Dynami
 				float* row = &acc[std::size_t(ty + nT) * side];
 				const int cy = pcy[k] + ty * step;
 				int cx = pcx[k] - nT * step;
-				// Block by block along the row: one directory lookup per block.
-				for (int tx = 0; tx < side;)
-				{
-					const float* d = map.rowInBlock(cx, cy);
-					const int inRow = DynamicDistanceMap::kBlockSide - (cx & (DynamicDistanceMap::kBlockSide - 1));
-					const int end = std::min(side, tx + (inRow + step - 1) / step);
-					for (int o = 0; tx < end; ++tx, o += step, cx += step) row[tx] += lut[int(d[o] * lutScale + 0.5f)];
-				}
+				for (int tx = 0; tx < side; ++tx, cx += step)
+					row[tx] += lut[int(map.cellDistanceInline(cx, cy) * lutScale + 0.5f)];
 			}
 		// Local maxima of this rotation's slice.
 		for (int ty = 0; ty < side; ++ty)

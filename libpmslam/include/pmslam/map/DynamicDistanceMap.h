@@ -61,10 +61,8 @@ class DynamicDistanceMap
 	int squaredDistanceCells(int cx, int cy) const;
 	/** Distance in metres from the centre of cell (cx, cy), truncated at maxDistance(). */
 	float cellDistance(int cx, int cy) const;
-	/** The distances of cells (cx, cy), (cx + 1, cy), … up to the end of cx's block along x: a pointer
-	 * to the first, valid for kBlockSide − (cx mod kBlockSide) cells (the correlative search reads
-	 * millions of cells along rows: it looks a block up once, not once per cell). */
-	const float* rowInBlock(int cx, int cy) const { return blockAt(cx, cy)->dist + inBlock(cx, cy); }
+	/** The same, inline (the correlative search reads millions of cells). */
+	float cellDistanceInline(int cx, int cy) const { return blockAt(cx, cy)->dist[inBlock(cx, cy)]; }
 
 	/** Distance (metres) at a world point by bilinear interpolation of the 4
 	 * surrounding cell-centre samples, with its analytic gradient (dimensionless,
