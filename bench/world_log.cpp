@@ -297,6 +297,7 @@ void hall(const std::string& path)
 	p.forward(W - 6, step);
 	writeCarmen(w, p.poses, path);
 }
+
 void hospital(const std::string& path)
 {
 	World w;

@@ -27,6 +27,13 @@ using mrpt::poses::CPose2D;
 
 TPose2D compose(const TPose2D& a, const TPose2D& b) { return (CPose2D(a) + CPose2D(b)).asTPose(); }
 double distance(const TPose2D& a, const TPose2D& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+// The distance of a and b if it is at most r (the box test first: this runs over every keyframe, at every one).
+std::optional<double> distanceWithin(const TPose2D& a, const TPose2D& b, double r)
+{
+	if (std::abs(a.x - b.x) > r || std::abs(a.y - b.y) > r) return std::nullopt;
+	const double d = distance(a, b);
+	return d <= r ? std::optional<double>(d) : std::nullopt;
+}
 bool within(const TPose2D& d, double linear, double angular) { return std::hypot(d.x, d.y) <= linear && std::abs(d.phi) <= angular; }
 
 mrpt::math::CMatrixDouble33 toMrpt(const Eigen::Matrix3d& m)
@@ -307,10 +314,7 @@ void LoopClosure::linkRevisit(std::size_t node, const Eigen::Matrix3d& hessian)
 	std::vector<std::pair<double, std::size_t>> near;
 	for (std::size_t i = 0; i < node && n.travel - m_nodes[i].travel >= m_opts.minTravel; ++i)
 	{
-		const TPose2D& p = m_nodes[i].mapPose;
-		if (std::abs(p.x - n.mapPose.x) > kRadius || std::abs(p.y - n.mapPose.y) > kRadius) continue;
-		const double d = distance(p, n.mapPose);
-		if (d <= kRadius) near.emplace_back(d, i);
+		if (const auto d = distanceWithin(m_nodes[i].mapPose, n.mapPose, kRadius)) near.emplace_back(*d, i);
 	}
 	if (near.empty()) return;
 	std::sort(near.begin(), near.end());
@@ -497,11 +501,9 @@ void LoopClosure::detect(std::size_t node)
 	{
 		const double back = n.travel - m_nodes[i].travel;
 		if (back < m_opts.minTravel) break;	 // travel grows with the id
-		const TPose2D& p = graphPose->second;
-		const double r = radius(back);
-		if (std::abs(p.x - x.x) > r || std::abs(p.y - x.y) > r) continue;  // the cheap test first
-		const double d = distance(p, x);
-		if (d > r) continue;
+		const auto inWindow = distanceWithin(graphPose->second, x, radius(back));
+		if (!inWindow) continue;
+		const double d = *inWindow;
 		if (runs.empty() || m_nodes[i].travel - lastIn > m_opts.localMapExtent)
 			runs.push_back({i, d});
 		else if (d < runs.back().d)

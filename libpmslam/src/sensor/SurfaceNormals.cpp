@@ -28,7 +28,7 @@ std::vector<mrpt::math::TPoint2Df> surfaceNormals(const std::vector<mrpt::math::
 		while (b + 1 < count && b - i < kMaxSteps && dist2(b + 1, i) <= kSpan2) ++b;
 		// Line fit (principal axis) of the window's points; its scatter across the line must be
 		// range noise, not a corner or clutter. One pass, about point i (the window's points are
-		// within centimetres of it: the sums stay well conditioned).
+		// within kSpan of it, or are its two neighbours: the sums stay well conditioned).
 		const int m = b - a + 1;
 		double sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
 		for (int k = a; k <= b; ++k)
