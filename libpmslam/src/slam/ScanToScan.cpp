@@ -10,17 +10,28 @@ std::optional<mrpt::math::TPose2D> ScanToScan::motion(const PerfectMatchMatcher&
 													  const mrpt::math::TPose2D& guess, double minGoodness)
 {
 	std::optional<mrpt::math::TPose2D> out;
+	const mrpt::poses::CPose2D start = m_at + mrpt::poses::CPose2D(guess);
+	mrpt::poses::CPose2D at = start;
 	if (!m_previous.empty() && !points.empty())
 	{
 		m_map.clear();
 		const double r = m_map.resolution();
-		for (const auto& p : m_previous) m_map.addObstacle(int(std::floor(p.x / r)), int(std::floor(p.y / r)));
+		for (const auto& p : m_previous)
+		{
+			const auto q = m_at.composePoint(mrpt::math::TPoint2D(p.x, p.y));
+			m_map.addObstacle(int(std::floor(q.x / r)), int(std::floor(q.y / r)));
+		}
 		m_map.update();
 		PerfectMatchMatcher::MatchInfo info;
-		const mrpt::math::TPose2D m = matcher.alignPoints(m_map, points, guess, &info);
-		if (info.goodness >= minGoodness) out = m;
+		const mrpt::poses::CPose2D m(matcher.alignPoints(m_map, points, start.asTPose(), &info));
+		if (info.goodness >= minGoodness)
+		{
+			out = (m - m_at).asTPose();
+			at = m;
+		}
 	}
 	m_previous = points;
+	m_at = at;
 	return out;
 }
 

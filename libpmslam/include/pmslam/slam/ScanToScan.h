@@ -7,11 +7,20 @@
  * match, which the look-alike may have pulled to its spot. So the new scan is
  * matched by Perfect Match against the previous scan (a distance map of its points,
  * built only when asked): the scans' own odometry.
+ *
+ * The distance map puts each point at the centre of its cell: a wall moves by up to half a
+ * cell. Were the previous scan's map built in its own frame, every match would be pulled by
+ * that same shift (a wall 2 cm off at each scan is 2 cm of sideways motion at each scan) and
+ * the motion would drift by centimetres per step. So the scans are placed in a frame of their
+ * own that the measured motions carry along: a wall falls into the same cells scan after scan,
+ * its rounding becomes a constant offset of that frame, and the motions between scans do not
+ * drift with it.
  */
 #pragma once
 
 #include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
+#include <mrpt/poses/CPose2D.h>
 #include <pmslam/map/DynamicDistanceMap.h>
 #include <pmslam/match/PerfectMatchMatcher.h>
 
@@ -27,7 +36,11 @@ class ScanToScan
 	ScanToScan(double resolution, double maxDistance) : m_map(resolution, maxDistance) {}
 
 	/** The scan (points in the robot frame) the next motion is measured from. */
-	void keep(const std::vector<mrpt::math::TPoint2Df>& points) { m_previous = points; }
+	void keep(const std::vector<mrpt::math::TPoint2Df>& points)
+	{
+		m_previous = points;
+		m_at = mrpt::poses::CPose2D();
+	}
 
 	/** The motion (robot frame) from the kept scan to `points`, Perfect Match from `guess`; none without
 	 * a kept scan or where the two scans do not match (goodness below minGoodness). `points` are
@@ -39,6 +52,7 @@ class ScanToScan
    private:
 	DynamicDistanceMap m_map;
 	std::vector<mrpt::math::TPoint2Df> m_previous;
+	mrpt::poses::CPose2D m_at;	///< the previous scan's pose in the scans' own frame
 };
 
 }  // namespace pmslam
