@@ -48,7 +48,7 @@ Drift drive(const TPose2D& from, const TPose2D& step, int steps)
 
 TEST(ScanToScan, MotionsAlongACorridorAddUpToTheRobotsWithoutDrift)
 {
-	// 2 m along the first corridor at 0.5 m/s (80 scans of 12.5 mm); before the scans were put in a frame of
+	// 2 m along the first corridor at 0.5 m/s (160 scans of 12.5 mm); before the scans were put in a frame of
 	// their own, the walls' rounding to cell centres pulled each match: 0.1-2.2 m sideways, 0.55-0.91 m along.
 	for (const double y : {-4.75, -4.73, -4.71})
 	{

@@ -1,8 +1,6 @@
 /* pmslam — the motion between two consecutive scans (see ScanToScan.h). */
 #include <pmslam/slam/ScanToScan.h>
 
-#include <cmath>
-
 namespace pmslam
 {
 std::optional<mrpt::math::TPose2D> ScanToScan::motion(const PerfectMatchMatcher& matcher,
@@ -15,11 +13,10 @@ std::optional<mrpt::math::TPose2D> ScanToScan::motion(const PerfectMatchMatcher&
 	if (!m_previous.empty() && !points.empty())
 	{
 		m_map.clear();
-		const double r = m_map.resolution();
 		for (const auto& p : m_previous)
 		{
 			const auto q = m_at.composePoint(mrpt::math::TPoint2D(p.x, p.y));
-			m_map.addObstacle(int(std::floor(q.x / r)), int(std::floor(q.y / r)));
+			m_map.addObstacle(m_map.worldToCell(q.x), m_map.worldToCell(q.y));
 		}
 		m_map.update();
 		PerfectMatchMatcher::MatchInfo info;
