@@ -12,7 +12,7 @@
  *
  * Beside OUT.clf, OUT.relations holds the ground truth for pm-slam-eval.
  *
- * The robot drives at 1 m/s, a 181-beam 180° laser at 10 Hz (30 m range, 1 cm noise); the odometry is
+ * The robot drives at 1 m/s, a 181-beam 180° laser at 10 Hz (30 m range, 1 cm noise, or --range-noise M); the odometry is
  * 1 % long and turns 0.1°/m too much, so the map has to come from the matching. The area mapped grows
  * with the distance driven, while the campus's bounding box is a square kilometre from its first
  * kilometre on: what a dense grid pays for and a sparse one does not.
@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -169,6 +170,8 @@ class PathBuilder
 };
 
 // `unlogged`: ranges [first, last) of poses driven but not logged (a logging gap).
+double g_rangeNoise = 0.01;  // m, Gaussian range noise (--range-noise)
+
 void writeCarmen(const World& w, const std::vector<Pose>& truth, const std::string& path,
 				 const std::vector<std::pair<std::size_t, std::size_t>>& unlogged = {})
 {
@@ -179,7 +182,7 @@ void writeCarmen(const World& w, const std::vector<Pose>& truth, const std::stri
 	if (!out) throw std::runtime_error("cannot write " + path);
 	out << "# synthetic world log written by pm-world-log (pmslam bench)\nPARAM robot_front_laser_max 30 nohost 0\n";
 	std::mt19937 rng(7);
-	std::normal_distribution<double> noise(0, 0.01);
+	std::normal_distribution<double> noise(0, g_rangeNoise);
 	// Odometry: 1 % long, 0.1°/m of extra turn, integrated from the true increments.
 	mrpt::poses::CPose2D odo(0, 0, 0);
 	char buf[64];
@@ -349,10 +352,21 @@ void hospital(const std::string& path)
 
 int main(int argc, char** argv)
 {
-	const std::string world = argc == 3 ? argv[1] : "";
+	const bool noiseGiven = argc == 5 && std::string(argv[3]) == "--range-noise";
+	const std::string world = argc == 3 || noiseGiven ? argv[1] : "";
+	if (noiseGiven)
+	{
+		char* end = nullptr;
+		g_rangeNoise = std::strtod(argv[4], &end);
+		if (*end != '\0' || !(g_rangeNoise >= 0 && g_rangeNoise < 1))
+		{
+			std::cerr << "pm-world-log: --range-noise '" << argv[4] << "': expected metres in [0, 1)\n";
+			return 2;
+		}
+	}
 	if (world != "campus" && world != "hall" && world != "hospital")
 	{
-		std::cerr << "usage: pm-world-log campus|hall|hospital OUT.clf\n";
+		std::cerr << "usage: pm-world-log campus|hall|hospital OUT.clf [--range-noise M]\n";
 		return 2;
 	}
 	try

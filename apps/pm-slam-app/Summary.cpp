@@ -80,6 +80,25 @@ void printMemory(const RunFacts& f)
 }
 }  // namespace
 
+// D52: how noisy each lidar's scans are, and the σ its scans were matched with.
+void printSensors(const pmslam::SensorNoise& noise)
+{
+	for (const auto& [label, measured] : noise.sensors())
+	{
+		const auto n = measured.noise();
+		if (!n) continue;
+		const double sigma = noise.sigma(label);
+		const std::string name = noise.sensors().size() > 1 ? " " + (label.empty() ? std::string("(no label)") : label) : "";
+		if (sigma > noise.configuredSigma())
+			std::printf("  lidar%s: range noise %.3f m (from its scans): matched with sigma %.3f m instead of the "
+						"configured %.3f m\n",
+						name.c_str(), *n, sigma, noise.configuredSigma());
+		else
+			std::printf("  lidar%s: range noise %.3f m (from its scans): matched with sigma %.3f m as configured\n",
+						name.c_str(), *n, sigma);
+	}
+}
+
 void printSummary(const Options& o, const RunFacts& f)
 {
 	const auto& slam = f.run.slam();
@@ -87,6 +106,7 @@ void printSummary(const Options& o, const RunFacts& f)
 	std::printf("pm-slam-app: %s\n", o.log.c_str());
 	std::printf("  scans %zu, matched %zu, inserted %zu, odometry readings %zu, skipped %zu, warnings %zu\n",
 				f.run.trajectory().size(), slam.scansMatched(), slam.scansInserted(), st.odometry, st.skipped, st.warnings);
+	printSensors(slam.sensorNoise());
 	// "ok" only where every scan was matched within a few seconds of the last accepted one: a run that
 	// went longer without (a gap, look-alike places undecided), or was found again by a whole-map
 	// search, found its way back, and says so.

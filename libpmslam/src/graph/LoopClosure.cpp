@@ -206,7 +206,7 @@ Eigen::Matrix3d LoopClosure::toEdgeFrame(const Eigen::Matrix3d& I, double fromPh
 }
 
 void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
-							  bool tracked, bool searched, double goodness)
+							  bool tracked, bool searched, double goodness, double sigma)
 {
 	const std::size_t id = m_nodes.size();
 	double travel = 0;
@@ -238,7 +238,7 @@ void LoopClosure::addKeyframe(const TPose2D& pose, double timestamp, ScanPoints 
 	scan.hits.shrink_to_fit();
 	scan.freeEnds.shrink_to_fit();
 	const float reach = reachOf(scan);
-	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose, reach});
+	m_nodes.push_back({travel, timestamp, std::make_shared<const ScanPoints>(std::move(scan)), pose, reach, sigma});
 	m_published.push_back(m_graph.pose(id));
 	// Whether this keyframe's match may make a revisit edge (linkRevisit). After lost tracking or a
 	// re-localisation the front-end's placement is a hypothesis (a look-alike room, a stretch of
@@ -705,10 +705,12 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	std::vector<Refined> refined;
 	// A wide window holds more look-alike peaks: more of them refined, for the ambiguity test below.
 	const std::size_t peaks = linWindow > kWideWindow ? 8 : 4;
+	PerfectMatchMatcher matcher = m_matcher;
+	if (std::isfinite(n.sigma)) matcher.options.sigma = n.sigma;  // D52: a noisier lidar's own σ
 	for (const auto& s : CorrelativeSearch::coarseToFine(dm, hits, x, linWindow, angWindow, peaks))
 	{
 		Refined r;
-		r.pose = m_matcher.alignPoints(dm, hits, s.pose, &r.info);
+		r.pose = matcher.alignPoints(dm, hits, s.pose, &r.info);
 		refined.push_back(r);
 	}
 	if (refined.empty()) return std::nullopt;

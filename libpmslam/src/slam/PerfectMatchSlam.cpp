@@ -113,6 +113,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	rivals.minViews = 2;
 	m_rivals.emplace(rivals);
 	m_scanMotion.emplace(PM_options.grid.resolution, PM_options.grid.maxDistance);
+	m_noise.emplace(PM_params.sigma);
 	m_revised.clear();
 	m_smoother.reset();
 	if (PM_options.odometrySmoothing)
@@ -272,6 +273,10 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	if (m_mapEmpty || moved || !mapUpdating())
 	{
 		const ScanPoints pts = scanToPoints(scan, PM_options.grid.scan);
+		// D52: the σ of this lidar's noise, measured on the scans that go into the map (on a fixed
+		// map, on the scans matched).
+		if (!mapUpdating()) m_noise->add(scan.sensorLabel, pts.hits);
+		m_matcher.options.sigma = m_noise->sigma(scan.sensorLabel);
 		if (!m_mapEmpty && (moved || !mapUpdating()) && pts.hits.size() >= PM_options.minPoints)
 			verdict = matchScan(scan, pts, motion, window, standstillCheck, r);
 		// A rejected match is not inserted either: its pose is only the odometry guess, and a scan
@@ -433,6 +438,7 @@ void PerfectMatchSlam::insertKeyframe(const mrpt::obs::CObservation2DRangeScan& 
 	const auto t0 = std::chrono::steady_clock::now();
 	r.backendWaitMs = std::chrono::duration<double, std::milli>(t0 - tw).count();
 	r.cellsFlipped = m_grid->insertScan(pts, r.pose);
+	m_noise->add(scan.sensorLabel, pts.hits);
 	if (!m_standstill->hasReference()) m_standstill->keep(scan);
 	r.updateMs = millisecondsSince(t0);
 	r.inserted = true;
@@ -444,7 +450,7 @@ void PerfectMatchSlam::insertKeyframe(const mrpt::obs::CObservation2DRangeScan& 
 	m_frames.addKeyframe(r.pose);
 	const Tracker::KeyframeEvidence e = m_tracker->keyframeEvidence(r.matched, r.relocalized, m_loops->nodeCount() == 0);
 	m_loops->addKeyframe(r.pose, now, pts, r.info.hessian, e.tracked, e.searched,
-						 r.matched ? r.info.goodness : std::nan(""));
+						 r.matched ? r.info.goodness : std::nan(""), m_noise->sigma(scan.sensorLabel));
 }
 
 std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> PerfectMatchSlam::takeSmoothedPoses(bool finish)

@@ -218,9 +218,10 @@ class LoopClosure
 	 * `searched`: a match since the previous keyframe was placed by a re-localisation search. That, or
 	 * lost tracking, makes where the front-end put the robot a hypothesis until a detected loop
 	 * confirms it: until then its matches make no revisit edges. `goodness`: of its match (mean PM
-	 * likelihood; NaN: unknown). */
+	 * likelihood; NaN: unknown). `sigma`: the likelihood field's σ for its lidar (D52), with which
+	 * it is verified (NaN: the matcher's). */
 	void addKeyframe(const mrpt::math::TPose2D& pose, double timestamp, ScanPoints scan, const Eigen::Matrix3d& hessian,
-					 bool tracked, bool searched = false, double goodness = std::nan(""));
+					 bool tracked, bool searched = false, double goodness = std::nan(""), double sigma = std::nan(""));
 
 	/** End of the log: waits, optimises what is pending, and returns the updates to apply in order
 	 * (the worker's last, then one that puts every keyframe that moved since it was inserted at its
@@ -253,6 +254,7 @@ class LoopClosure
 		std::shared_ptr<const ScanPoints> scan;
 		mrpt::math::TPose2D mapPose;  // where its scan is in the current grid (front-end frame)
 		float reach;  // m: the farthest cell its insertion touches from the robot's origin
+		double sigma = std::nan("");  // m: σ its lidar's scans are matched with (NaN: the matcher's)
 	};
 	struct Match
 	{

@@ -57,6 +57,7 @@
 #include <pmslam/slam/OdometrySmoother.h>
 #include <pmslam/slam/Rivals.h>
 #include <pmslam/slam/ScanToScan.h>
+#include <pmslam/slam/SensorNoise.h>
 #include <pmslam/slam/StandstillCheck.h>
 #include <pmslam/slam/Tracker.h>
 #include <pmslam/map/OccupancyDistanceGridMap.h>
@@ -244,6 +245,8 @@ class PerfectMatchSlam
 	std::size_t reanchorings() const { return m_reanchored; }
 	/** On a fixed map: matches rejected because their beams crossed the map's walls (D47). */
 	std::size_t wallCrossings() const { return m_crossedWalls; }
+	/** Each lidar's range noise as its scans show it, and the likelihood field's σ from it (D52). */
+	const SensorNoise& sensorNoise() const { return *m_noise; }
 
 	/** The robot is at `pose` now, as something other than the tracker found (a global search on
 	 * a fixed map after tracking was lost): the next scan is predicted from there. */
@@ -284,6 +287,7 @@ class PerfectMatchSlam
 	std::optional<DegenerateDirections> m_degenerate;
 	std::optional<Tracker> m_tracker;
 	std::optional<ScanToScan> m_scanMotion;	// the rivals' motion: the scans' own odometry
+	std::optional<SensorNoise> m_noise;	 // each lidar's range noise, and the σ its scans are matched with
 	std::optional<Rivals> m_rivals;	// look-alike poses of a lidar alone after a gap, until the scans decide
 	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> m_revised;	 // the winner's poses of undecided scans
 	std::optional<OdometrySmoother> m_smoother;
