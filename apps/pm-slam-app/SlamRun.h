@@ -24,8 +24,11 @@ class SlamRun
 {
    public:
 	explicit SlamRun(const pmslam::SlamConfig& config);
-	/** --localize: tracks on the fixed `map` from `initialPose`. Throws std::invalid_argument. */
-	void localize(const mrpt::maps::COccupancyGridMap2D& map, const mrpt::math::TPose2D& initialPose);
+	/** --localize: tracks on the fixed `map` from `initialPose`. With `checkStart` (a start pose the user gave)
+	 * the first scans are also searched over the whole map, and a place they decide for elsewhere moves the
+	 * robot there (D47). Throws std::invalid_argument. */
+	void localize(const mrpt::maps::COccupancyGridMap2D& map, const mrpt::math::TPose2D& initialPose,
+				  bool checkStart = false);
 	/** --localize without --initial-pose: the start is searched on `map` (GlobalLocalizer) from the
 	 * first scans, which offerForStart() takes until it is found. */
 	void findStart(const mrpt::maps::COccupancyGridMap2D& map);
@@ -75,7 +78,8 @@ class SlamRun
 	/** The continued session's keyframes in the map, the robot at `start`. */
 	void startSession(const mrpt::math::TPose2D& start);
 	/** Localising: a whole-map search once tracking was lost long enough (D47). */
-	void searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry);
+	void searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry,
+						bool relocalized);
 	void placeWhereFound(double now);
 	/** The smoothed poses (odometrySmoothing) replace each scan's pose once final. */
 	void applySmoothedPoses(bool finish);
@@ -87,6 +91,7 @@ class SlamRun
 	const mrpt::maps::COccupancyGridMap2D* m_startMap = nullptr;
 	pmslam::OdometrySelector m_startOdometry;  // its own: the events are offered again to m_odometry after
 	const mrpt::maps::COccupancyGridMap2D* m_prior = nullptr;  // the fixed map, while localising
+	bool m_checkStart = false;	// the next scan starts a whole-map search that checks the given start
 	const pmslam::Session* m_session = nullptr;	 // the session continued
 	bool m_lifelong = false;
 	std::vector<bool> m_retired;  // per earlier keyframe (--lifelong)

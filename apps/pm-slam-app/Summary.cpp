@@ -39,7 +39,7 @@ void printRelocation(const SlamRun& run)
 	// Localisation's own evidence (D47): matches whose beams would pass through the map's walls,
 	// and the whole-map searches for a robot lost on the map.
 	std::printf("  localisation: %zu matches rejected because their beams crossed the map's walls; %zu whole-map "
-				"searches after lost tracking, the robot found again %zu times",
+				"searches (after lost tracking or a re-localisation), the robot found again %zu times",
 				run.slam().wallCrossings(), run.searchesWhenLost(), run.foundAgain().size());
 	for (const auto& [t, p] : run.foundAgain())
 		std::printf("%s t=%.3f at %.3f %.3f %.1f deg", &t == &run.foundAgain().front().first ? " (" : ",", t, p.x, p.y,

@@ -243,7 +243,7 @@ int main(int argc, char** argv)
 	run.setLifelong(options.lifelong);
 	try
 	{
-		if (options.localizing() && options.initialPoseGiven) run.localize(priorMap, options.initialPose);
+		if (options.localizing() && options.initialPoseGiven) run.localize(priorMap, options.initialPose, true);
 		if (options.localizing() && !options.initialPoseGiven) run.findStart(priorMap);
 		if (options.continuing())
 			run.continueSession(session, options.initialPoseGiven ? std::optional(options.initialPose) : std::nullopt);

@@ -275,7 +275,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 		const ScanPoints pts = scanToPoints(scan, PM_options.grid.scan);
 		// D52: the σ of this lidar's noise, measured on the scans that go into the map (on a fixed
 		// map, on the scans matched).
-		if (!mapUpdating()) m_noise->add(scan.sensorLabel, pts.hits);
+		if (!mapUpdating()) m_noise->add(scan.sensorLabel, pts.hits, {scan.sensorPose.x(), scan.sensorPose.y()});
 		m_matcher.options.sigma = m_noise->sigma(scan.sensorLabel);
 		if (!m_mapEmpty && (moved || !mapUpdating()) && pts.hits.size() >= PM_options.minPoints)
 			verdict = matchScan(scan, pts, motion, window, standstillCheck, r);
@@ -419,6 +419,9 @@ bool PerfectMatchSlam::crossesWalls(const ScanPoints& pts, const mrpt::math::TPo
 void PerfectMatchSlam::placeAt(const mrpt::math::TPose2D& pose)
 {
 	std::lock_guard<std::mutex> lock(mapMutex());
+	// The recent matches move with the robot: the velocity a lidar alone is predicted with is the
+	// one they had, not a jump from where the robot was thought to be to where it is.
+	m_motion->correct(mrpt::poses::CPose2D(pose) + (-mrpt::poses::CPose2D(m_pose)));
 	m_pose = m_last.pose = pose;
 	m_gate.emplace(gateOptions(PM_options), m_pose);
 	m_rivals->clear();
@@ -438,7 +441,7 @@ void PerfectMatchSlam::insertKeyframe(const mrpt::obs::CObservation2DRangeScan& 
 	const auto t0 = std::chrono::steady_clock::now();
 	r.backendWaitMs = std::chrono::duration<double, std::milli>(t0 - tw).count();
 	r.cellsFlipped = m_grid->insertScan(pts, r.pose);
-	m_noise->add(scan.sensorLabel, pts.hits);
+	m_noise->add(scan.sensorLabel, pts.hits, {scan.sensorPose.x(), scan.sensorPose.y()});
 	if (!m_standstill->hasReference()) m_standstill->keep(scan);
 	r.updateMs = millisecondsSince(t0);
 	r.inserted = true;

@@ -8,15 +8,17 @@
  * (a wall is straight over a few centimetres), whatever the pose. Match residuals would mix the
  * noise with the pose's error: a lost robot would learn a wide σ that then accepts wrong poses.
  *
- * Per scan: the median over its triples, so that corners, edges and clutter (whose chord distances
- * are geometry, not noise) do not count while they are under half the triples. A triple counts
- * when its neighbours are near (within kMaxSpan + 3 % of the range); far apart, they span surfaces.
- * For independent Gaussian range noise s across a wall, the chord distance |n₀ − (n₋ + n₊)/2| has
- * standard deviation s·√1.5, whose median is 0.6745·s·√1.5: the estimate divides by that, so it
- * reads s. It reads low once the noise nears the spacing of the returns (measured: 0.082 for
- * 0.1 m, 0.11 for 0.15 m, 0.13 for 0.2 m at 1° beams), which errs on the side of the configured σ.
+ * A return moved by e along its beam is e·sin(a) off a surface seen at angle a to the beam; the chord
+ * of its neighbours gives the surface's direction, so the deviation is divided by sin(a), and
+ * surfaces seen at under 30° are left out (a small sine would amplify clutter). Per scan: the median
+ * over its triples, so that corners, edges and clutter (whose chord distances are geometry, not
+ * noise) do not count while they are under half the triples. A triple counts when its neighbours are
+ * near (within kMaxSpan + 3 % of the range); far apart, they span surfaces. For independent Gaussian
+ * range noise s, |e₀ − (e₋ + e₊)/2| has standard deviation s·√1.5, whose median is 0.6745·s·√1.5:
+ * the estimate divides by that, so it reads s (test_sensor_noise: within 15 % up to 0.03 m). It
+ * reads low once the noise nears the spacing of the returns, which errs towards the configured σ.
  *
- * Units: metres; points in any frame, in scan order.
+ * Units: metres; points and the lidar's origin in one frame, points in scan order.
  */
 #pragma once
 
@@ -30,7 +32,8 @@
 namespace pmslam
 {
 /** The range noise of one scan (m), or none when it has fewer than `minTriples` usable triples. */
-std::optional<double> scanRangeNoise(const std::vector<mrpt::math::TPoint2Df>& points, std::size_t minTriples = 20);
+std::optional<double> scanRangeNoise(const std::vector<mrpt::math::TPoint2Df>& points,
+									const mrpt::math::TPoint2D& origin = {0, 0}, std::size_t minTriples = 20);
 
 /** A lidar's range noise over its recent scans: the median of the last `window` scans' estimates,
  * so a scan of clutter or a crowd moves it little. */
@@ -38,7 +41,7 @@ class RangeNoise
 {
    public:
 	explicit RangeNoise(std::size_t window = 25) : m_window(window) {}
-	void add(const std::vector<mrpt::math::TPoint2Df>& points);
+	void add(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPoint2D& origin = {0, 0});
 	/** Median of the recent estimates (m); none before the first usable scan. */
 	std::optional<double> noise() const;
 
