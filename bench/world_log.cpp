@@ -169,9 +169,9 @@ class PathBuilder
 	std::vector<Pose> poses;
 };
 
-// `unlogged`: ranges [first, last) of poses driven but not logged (a logging gap).
 double g_rangeNoise = 0.01;  // m, Gaussian range noise (--range-noise)
 
+// `unlogged`: ranges [first, last) of poses driven but not logged (a logging gap).
 void writeCarmen(const World& w, const std::vector<Pose>& truth, const std::string& path,
 				 const std::vector<std::pair<std::size_t, std::size_t>>& unlogged = {})
 {

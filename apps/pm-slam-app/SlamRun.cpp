@@ -99,13 +99,14 @@ const pmslam::PerfectMatchSlam::ScanResult* SlamRun::process(const pmslam::LogEv
 	const auto odometry = m_odometry.scanOdometry(ev);
 	const auto& r = m_slam.processScan(*ev.scan, odometry);
 	m_traj.push_back({ev.timestamp, r.pose.x, r.pose.y, r.pose.phi});
-	if (m_prior) searchWhenLost(ev, m_odometry.forScan(ev), r.relocalized || std::exchange(m_checkStart, false));
+	const bool startCheck = std::exchange(m_checkStart, false);	 // the first scan, whatever the tracker did
+	if (m_prior) searchWhenLost(ev, m_odometry.forScan(ev), r.relocalized || startCheck);
 	applySmoothedPoses(false);
 	return &r;
 }
 
 void SlamRun::searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry,
-							 bool relocalized)
+							 bool check)
 {
 	// A robot lost on a fixed map is searched for as its start was: the whole map, then the scans
 	// decide between the places found, from the first scan of the loss on (so that the place found
@@ -113,17 +114,17 @@ void SlamRun::searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrp
 	// where the tracker already is changes nothing. A given start pose and a re-localisation by the
 	// tracker's own window search are places taken on one view, from the user's word or near the
 	// prediction (a look-alike as often as not from a wrong start pose): each is checked the same
-	// way, from that scan on (D47).
-	if (!m_research && !m_slam.lost() && !relocalized)
+	// way, from that scan on (D47): `check`.
+	if (!m_research && !m_slam.lost() && !check)
 	{
 		m_lost.clear();
 		return;
 	}
-	if (relocalized && !m_research) m_lost.clear();
+	if (check && !m_research) m_lost.clear();
 	m_lost.push_back({ev, odometry});
 	if (!m_research)
 	{
-		if (!relocalized && m_slam.untrackedFor(ev.timestamp) < kSearchWhenLostAfter) return;
+		if (!check && m_slam.untrackedFor(ev.timestamp) < kSearchWhenLostAfter) return;
 		m_research = std::make_unique<pmslam::GlobalLocalizer>(*m_prior, m_slam.PM_params, m_slam.PM_options.grid.scan);
 		m_offered = 0;
 		++m_searchesWhenLost;

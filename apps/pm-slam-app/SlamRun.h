@@ -77,9 +77,9 @@ class SlamRun
    private:
 	/** The continued session's keyframes in the map, the robot at `start`. */
 	void startSession(const mrpt::math::TPose2D& start);
-	/** Localising: a whole-map search once tracking was lost long enough (D47). */
-	void searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry,
-						bool relocalized);
+	/** Localising: a whole-map search once tracking was lost long enough, or from this scan on with
+	 * `check` (a given start, a re-localisation) (D47). */
+	void searchWhenLost(const pmslam::LogEvent& ev, const std::optional<mrpt::math::TPose2D>& odometry, bool check);
 	void placeWhereFound(double now);
 	/** The smoothed poses (odometrySmoothing) replace each scan's pose once final. */
 	void applySmoothedPoses(bool finish);

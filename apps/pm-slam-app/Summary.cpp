@@ -89,13 +89,11 @@ void printSensors(const pmslam::SensorNoise& noise)
 		if (!n) continue;
 		const double sigma = noise.sigma(label);
 		const std::string name = noise.sensors().size() > 1 ? " " + (label.empty() ? std::string("(no label)") : label) : "";
+		char configured[64] = "as configured";
 		if (sigma > noise.configuredSigma())
-			std::printf("  lidar%s: range noise %.3f m (from its scans): matched with sigma %.3f m instead of the "
-						"configured %.3f m\n",
-						name.c_str(), *n, sigma, noise.configuredSigma());
-		else
-			std::printf("  lidar%s: range noise %.3f m (from its scans): matched with sigma %.3f m as configured\n",
-						name.c_str(), *n, sigma);
+			std::snprintf(configured, sizeof configured, "instead of the configured %.3f m", noise.configuredSigma());
+		std::printf("  lidar%s: range noise %.3f m (from its scans): matched with sigma %.3f m %s\n", name.c_str(), *n,
+					sigma, configured);
 	}
 }
 

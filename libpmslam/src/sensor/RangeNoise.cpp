@@ -1,8 +1,9 @@
 /* pmslam — a lidar's range noise from its own scans (see RangeNoise.h). */
 #include <pmslam/sensor/RangeNoise.h>
+#include <pmslam/util/RunStatistics.h>
 
-#include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace pmslam
 {
@@ -11,13 +12,6 @@ namespace
 constexpr double kMaxSpan = 0.5;  // m: neighbours farther apart (+ 3 % of the range) span two surfaces
 constexpr double kMinSinAngle = 0.5;  // surfaces seen at under 30° to the beam are left out (noise / small sine)
 const double kMedianOfChordDistance = 0.6745 * std::sqrt(1.5);	// median |N(0, s·√1.5)| / s
-
-double median(std::vector<double>& v)
-{
-	const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-	std::nth_element(v.begin(), mid, v.end());
-	return *mid;
-}
 
 double squared(double x, double y) { return x * x + y * y; }
 }  // namespace
@@ -45,7 +39,7 @@ std::optional<double> scanRangeNoise(const std::vector<mrpt::math::TPoint2Df>& p
 		along.push_back(std::abs(acx * (b.y - a.y) - acy * (b.x - a.x)) / chord / sinAngle);
 	}
 	if (along.size() < minTriples) return std::nullopt;
-	return median(along) / kMedianOfChordDistance;
+	return percentile(std::move(along), 0.5) / kMedianOfChordDistance;
 }
 
 void RangeNoise::add(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPoint2D& origin)
@@ -54,13 +48,7 @@ void RangeNoise::add(const std::vector<mrpt::math::TPoint2Df>& points, const mrp
 	if (!s) return;
 	m_recent.push_back(*s);
 	if (m_recent.size() > m_window) m_recent.pop_front();
-}
-
-std::optional<double> RangeNoise::noise() const
-{
-	if (m_recent.empty()) return std::nullopt;
-	std::vector<double> v(m_recent.begin(), m_recent.end());
-	return median(v);
+	m_median = percentile(std::vector<double>(m_recent.begin(), m_recent.end()), 0.5);
 }
 
 }  // namespace pmslam

@@ -43,11 +43,12 @@ class RangeNoise
 	explicit RangeNoise(std::size_t window = 25) : m_window(window) {}
 	void add(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPoint2D& origin = {0, 0});
 	/** Median of the recent estimates (m); none before the first usable scan. */
-	std::optional<double> noise() const;
+	std::optional<double> noise() const { return m_median; }
 
    private:
 	std::size_t m_window;
 	std::deque<double> m_recent;
+	std::optional<double> m_median;	 // of m_recent, kept by add(): the σ is asked for at every scan
 };
 
 }  // namespace pmslam
