@@ -21,7 +21,7 @@ void NewGroundWarning::onScan(const ScanStep& s)
 					 "pm-slam-app: warning: at t=%.3f, after %.1f s without an accepted match, the scans see new "
 					 "ground only: inserted at the odometry pose from here, so the map grows on, but its alignment "
 					 "with what was mapped before is not verified\n",
-					 s.event.timestamp, gaps.empty() ? 0.0 : s.event.timestamp - gaps.back().from);
+					 s.event.timestamp, gaps.empty() ? 0.0 : gaps.back().length());
 	}
 	m_onNewGround = onNewGround;
 }
@@ -31,7 +31,7 @@ UntrackedSpans reportUntrackedSpans(const pmslam::PerfectMatchSlam& slam)
 	UntrackedSpans u;
 	for (const auto& g : slam.trackingGaps())
 	{
-		const double span = std::isfinite(g.to - g.from) ? g.to - g.from : 0.0;
+		const double span = g.length();
 		u.longest = std::max(u.longest, span);
 		if (span <= kWarnUntrackedSeconds) continue;
 		++u.warned;

@@ -6,6 +6,7 @@
 #include <pmslam/eval/RelativePoseEvaluation.h>
 #include <pmslam/io/MapExport.h>
 #include <pmslam/io/Trajectory.h>
+#include <pmslam/slam/Tracker.h>
 
 #include <cstdlib>
 #include <iostream>
@@ -236,6 +237,30 @@ TEST(Robustness, LostTrackingIsLoud)
 	for (const auto& row : c.timing) reanchored += row[8] == 4;
 	EXPECT_GE(reanchored, 1u);
 	EXPECT_NE(c.result.output.find("scans inserted at the odometry pose on new ground"), std::string::npos);
+}
+
+TEST(Robustness, LostTrackingIsLoudWhateverTheStampsSay)
+{
+	// A simulator that stamps each scan with the time it wrote it: 0.3 ms apart. 400 scans of the
+	// room, then 500 from another world (rejected: 0.15 s by the stamps, but 500 scans, 5 s of the
+	// fastest lidar's), then 200 of the room. Counted by the stamps alone, this said "tracking: ok"
+	// and exit 0 (TrackingGap::length()).
+	ScratchDir d("robust-lost-fast");
+	const auto truth = roomPath(1100);
+	CarmenLogSpec spec;
+	spec.dt = 0.0003;
+	const auto room = splitLines(carmenLog(furnishedRoom(), truth, truth, spec));
+	const auto other = splitLines(carmenLog(stickField(), truth, truth, spec));
+	std::string text;
+	for (std::size_t i = 0; i < room.size(); ++i) text += (i >= 2 + 400 && i < 2 + 900 ? other[i] : room[i]) + "\n";
+	const auto a = mapLog(d, d.write("fast.clf", text), "fast", "--max-untracked 4");
+	EXPECT_EQ(a.result.exitCode, 3) << a.result.output;
+	EXPECT_NE(a.result.output.find("tracking: LOST (exit status 3)"), std::string::npos) << a.result.output;
+	ASSERT_EQ(countLines(a.result.output, "tracking lost from t="), 1u) << a.result.output;
+	std::smatch m;
+	ASSERT_TRUE(std::regex_search(a.result.output, m, std::regex(R"(\(([0-9.]+) s of log, ([0-9]+) rejected matches)")));
+	EXPECT_GE(std::stoul(m[2]), 400u);	// nearly all of the other world's scans
+	EXPECT_NEAR(std::stod(m[1]), double(std::stoul(m[2])) / pmslam::TrackingGap::kMaxScanRate, 0.05);
 }
 
 namespace

@@ -10,7 +10,10 @@ double Tracker::sinceAccepted(double now) const
 
 double Tracker::lostFor(double now) const
 {
-	return m_gaps.empty() || !m_gaps.back().open ? 0.0 : now - m_gaps.back().from;
+	if (m_gaps.empty() || !m_gaps.back().open) return 0.0;
+	TrackingGap g = m_gaps.back();
+	g.to = std::max(g.to, now);
+	return g.length();
 }
 
 bool Tracker::acceptable(const PerfectMatchMatcher::MatchInfo& info) const

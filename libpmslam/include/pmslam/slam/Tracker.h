@@ -21,6 +21,7 @@
 
 #include <pmslam/match/PerfectMatchMatcher.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <functional>
@@ -44,6 +45,19 @@ struct TrackingGap
 	double from = 0, to = 0;
 	std::size_t scans = 0;	///< rejected scans in it
 	bool open = true;  ///< still going at the last scan
+
+	/** No lidar sends more scans than this per second (SICK's fastest, 100 Hz). */
+	static constexpr double kMaxScanRate = 100;
+	/** How long tracking was lost (s): the stamps' span, but at least the rejected scans at
+	 * kMaxScanRate. A log whose stamps are not the sensor's (a simulator that stamps scans with the
+	 * time it wrote them, 0.3 ms apart) would otherwise lose its robot for thousands of scans in
+	 * under a second of "log time", and every rule that waits for seconds of loss (the new-ground
+	 * insertion, the whole-map search, the exit status) would never fire. */
+	double length() const
+	{
+		const double stamped = std::isfinite(to - from) ? to - from : 0.0;
+		return std::max(stamped, double(scans) / kMaxScanRate);
+	}
 };
 
 /** The MapBuilderOptions fields of the same names (see there for their defaults and why);
