@@ -32,11 +32,12 @@ echo "[profile] $name: pm-slam-app under perf record -F $freq ..." >&2
 perf record -q -o "$data" -F "$freq" -- "$build/bin/pm-slam-app" --no-progress "$@" "$log" --out "$out/$name-run" \
   >"$out/$name-run/stdout.txt" 2>&1 || { tail -n 5 "$out/$name-run/stdout.txt" >&2; exit 1; }
 
-# Samples by thread: the first thread seen is the main one (the front-end); every other is the back-end (a worker
+# Samples by thread (perf script names a sample's symbol only when its address is asked for too): the first
+# thread seen is the main one (the front-end); every other is the back-end (a worker
 # per loop-closure job). Symbols lose their argument lists, so template instances of one function add up.
-perf script -i "$data" -F tid,sym 2>/dev/null | awk -v top="$top" -v total_hz="$freq" '
+perf script -i "$data" -F tid,ip,sym 2>/dev/null | awk -v top="$top" -v total_hz="$freq" '
   NF < 2 { next }
-  { tid = $1; $1 = ""; sym = substr($0, 2); sub(/\(.*/, "", sym); if (sym == "") sym = "[unknown]"
+  { tid = $1; $1 = ""; $2 = ""; sym = substr($0, 3); gsub(/\(anonymous namespace\)/, "{anon}", sym); sub(/\(.*/, "", sym); if (sym == "") sym = "[unknown]"
     if (main == "") main = tid
     part = (tid == main) ? "front-end (main thread)" : "back-end (loop-closure workers)"
     n[part]++; c[part SUBSEP sym]++; all++ }
