@@ -81,7 +81,7 @@ class Tracker
 	bool lost() const { return m_state != TrackingState::Tracking; }
 	/** Seconds from the last accepted match to `now` (0 when unknown). */
 	double sinceAccepted(double now) const;
-	/** Seconds from the start of the open stretch without an accepted match to `now` (0 while tracking). */
+	/** How long the open stretch without an accepted match has lasted at `now` (TrackingGap::length(); 0 while tracking). */
 	double lostFor(double now) const;
 
 	/** The state a match leaves: tracking when accepted (and not `undecided`), new ground when
