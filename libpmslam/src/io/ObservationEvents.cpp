@@ -110,88 +110,94 @@ void ObservationEvents::flushHeld(double ts, std::deque<LogEvent>& out)
 	m_held.reset();
 }
 
+/** A 2D scan as it is, or a 3D lidar's / RGB-D camera's horizontal slice; null (warned once per reason) if
+ *  the slice holds no point, or if the observation is no range sensor at all. */
+mrpt::obs::CObservation2DRangeScan::Ptr ObservationEvents::asScan(const mrpt::obs::CObservation::Ptr& o, std::size_t index)
+{
+	if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o)) return scan;
+	if (!isSliceable(*o)) return nullptr;
+	std::string why;
+	auto scan = sliceObservation(*o, m_opts.slice, &why);
+	if (scan) return scan;
+	++m_stats.skipped;
+	if (why.empty())
+		why = "no point between " + std::to_string(m_opts.slice.minHeight) + " and " +
+			  std::to_string(m_opts.slice.maxHeight) + " m of height";
+	if (m_sliceWarned.insert(why).second)
+		m_warn(m_source + ": object " + std::to_string(index) + " (" + o->GetRuntimeClass()->className + ", sensor " +
+			   o->sensorLabel + "): " + why + ", skipped (and others like it)");
+	return nullptr;
+}
+
+/** Repairs what can be repaired (the Carmen importer's geometry, damaged readings made invalid); false (skipped,
+ *  said) if nothing usable is left. */
+bool ObservationEvents::usableScan(mrpt::obs::CObservation2DRangeScan& scan, std::size_t index)
+{
+	if (scan.getScanSize() < 2)
+	{
+		skip(index, "scan with " + std::to_string(scan.getScanSize()) + " beams");
+		return false;
+	}
+	if (hasCarmenImportGeometry(scan))
+	{
+		if (!m_fixWarned)
+		{
+			m_fixWarned = true;
+			char b[64];
+			std::snprintf(b, sizeof(b), "%.2f", m_opts.noReturnRange);
+			m_warn(m_source + ": scans labelled " + scan.sensorLabel +
+				   " carry the geometry of MRPT's Carmen importer (aperture = N x 0.5 deg); re-applied the "
+				   "Carmen 180-degree fan from -90 deg and no-return range " +
+				   b + " m");
+		}
+		applyCarmenGeometry(scan, m_opts.noReturnRange);
+	}
+	if (const std::string why = badGeometry(scan); !why.empty())
+	{
+		skip(index, "scan with " + why);
+		return false;
+	}
+	bool anyValid = false;
+	for (std::size_t i = 0; i < scan.getScanSize(); ++i)
+	{
+		const float r = scan.getScanRange(i);
+		if (!scan.getScanRangeValidity(i)) continue;
+		if (std::isfinite(r) && r > 0.0f && r <= kMaxReading)
+			anyValid = true;
+		else
+			scan.setScanRangeValidity(i, false);
+	}
+	if (!anyValid) skip(index, "scan has no valid beam");  // as for Carmen lines: nothing to match or map
+	return anyValid;
+}
+
 void ObservationEvents::addObservation(const mrpt::obs::CObservation::Ptr& o, std::size_t index, std::deque<LogEvent>& out)
 {
-		auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o);
-		if (!scan && isSliceable(*o))
-		{
-			// A 3D lidar or an RGB-D camera: mapped through its horizontal slice.
-			std::string why;
-			scan = sliceObservation(*o, m_opts.slice, &why);
-			if (!scan)
-			{
-				++m_stats.skipped;
-				if (why.empty()) why = "no point between " + std::to_string(m_opts.slice.minHeight) + " and " +
-									   std::to_string(m_opts.slice.maxHeight) + " m of height";
-				if (m_sliceWarned.insert(why).second)
-					m_warn(m_source + ": object " + std::to_string(index) + " (" + o->GetRuntimeClass()->className +
-						 ", sensor " + o->sensorLabel + "): " + why + ", skipped (and others like it)");
-				return;
-			}
-		}
-		if (scan)
-		{
-			if (scan->getScanSize() < 2)
-			{
-				skip(index, "scan with " + std::to_string(scan->getScanSize()) + " beams");
-				return;
-			}
-			if (hasCarmenImportGeometry(*scan))
-			{
-				if (!m_fixWarned)
-				{
-					m_fixWarned = true;
-					char b[64];
-					std::snprintf(b, sizeof(b), "%.2f", m_opts.noReturnRange);
-					m_warn(m_source + ": scans labelled " + scan->sensorLabel +
-						 " carry the geometry of MRPT's Carmen importer (aperture = N x 0.5 deg); re-applied the "
-						 "Carmen 180-degree fan from -90 deg and no-return range " +
-						 b + " m");
-				}
-				applyCarmenGeometry(*scan, m_opts.noReturnRange);
-			}
-			if (const std::string why = badGeometry(*scan); !why.empty())
-			{
-				skip(index, "scan with " + why);
-				return;
-			}
-			bool anyValid = false;
-			for (std::size_t i = 0; i < scan->getScanSize(); ++i)
-			{
-				const float r = scan->getScanRange(i);
-				if (!scan->getScanRangeValidity(i)) continue;
-				if (std::isfinite(r) && r > 0.0f && r <= kMaxReading)
-					anyValid = true;
-				else
-					scan->setScanRangeValidity(i, false);
-			}
-			if (!anyValid)
-			{  // as for Carmen lines: nothing to match or map
-				skip(index, "scan has no valid beam");
-				return;
-			}
-			LogEvent e;
-			e.kind = LogEvent::Kind::Scan;
-			e.timestamp = stampToDouble(scan->timestamp);
-			e.scan = scan;
-			e.sourceIndex = index;
-			push(std::move(e), out);
-		}
-		else if (auto od = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o))
-		{
-			if (!plausible(od->odometry.asTPose()))	 // NaN fails too
-			{
-				skip(index, "implausible odometry pose");
-				return;
-			}
-			LogEvent e;
-			e.kind = LogEvent::Kind::Odometry;
-			e.timestamp = stampToDouble(od->timestamp);
-			e.odometry = od->odometry.asTPose();
-			e.sourceIndex = index;
-			push(std::move(e), out);
-		}
+	if (auto scan = asScan(o, index))
+	{
+		if (!usableScan(*scan, index)) return;
+		LogEvent e;
+		e.kind = LogEvent::Kind::Scan;
+		e.timestamp = stampToDouble(scan->timestamp);
+		e.scan = scan;
+		e.sourceIndex = index;
+		push(std::move(e), out);
 	}
+	else if (auto od = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o))
+	{
+		if (!plausible(od->odometry.asTPose()))  // NaN fails too
+		{
+			skip(index, "implausible odometry pose");
+			return;
+		}
+		LogEvent e;
+		e.kind = LogEvent::Kind::Odometry;
+		e.timestamp = stampToDouble(od->timestamp);
+		e.odometry = od->odometry.asTPose();
+		e.sourceIndex = index;
+		push(std::move(e), out);
+	}
+}
 
 void ObservationEvents::add(const mrpt::serialization::CSerializable::Ptr& obj, std::size_t index, std::deque<LogEvent>& out)
 {

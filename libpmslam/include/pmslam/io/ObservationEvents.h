@@ -50,6 +50,8 @@ class ObservationEvents
 	void skip(std::size_t index, const std::string& why);
 	void flushHeld(double ts, std::deque<LogEvent>& out);
 	void addObservation(const mrpt::obs::CObservation::Ptr& o, std::size_t index, std::deque<LogEvent>& out);
+	mrpt::obs::CObservation2DRangeScan::Ptr asScan(const mrpt::obs::CObservation::Ptr& o, std::size_t index);
+	bool usableScan(mrpt::obs::CObservation2DRangeScan& scan, std::size_t index);
 
 	LogReaderOptions m_opts;
 	std::string m_source;
