@@ -469,3 +469,54 @@ TEST(Robustness, AmbiguousReLocalisationAfterAGapWaitsForTheRightPlace)
 	std::cout << "fr079 gap-b seed 2: " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
 	EXPECT_LT(err.transMean, 0.05);	 // 1.5x the clean log's target (a failure is metres)
 }
+
+// An open failure (issue 25: competing hypotheses; issue 26: the whole-map search in the SLAM's
+// front-end), kept here as its reproduction and disabled until it passes: carried during a 10 s logging
+// gap across a field of sticks, odometry standing still meanwhile, the log resumes 16 m from where
+// the tracker predicts, on ground the map already has. Today the first scan after the gap is matched
+// in the wide search's window (the true pose is beyond it) at a wrong pose, goodness 0.17 over the
+// scan with its small overlap with the map agreeing (D13), and inserted; the run maps on from there
+// (goodness 0.55-0.97 against its own new keyframes), 14.4 m off, and says "tracking: ok", exit 0.
+// Tried on 2026-12-06 (not kept): a whole-map search once the tracker is lost for 2 s never runs here
+// (the tracker is never lost), and on the generated hospital it decided for a look-alike corridor 83 m
+// off (0.039 -> 0.56 m): its places need the odometry's prior and the scans' views, as rivals of the
+// window's candidates, before one is believed.
+TEST(Robustness, DISABLED_ARobotCarriedOntoMappedGroundDuringAGapIsFoundOrSaidLost)
+{
+	ScratchDir d("robust-carried-gap");
+	std::vector<TPose2D> truth;
+	for (double x = -6; x < 6; x += 0.05) truth.push_back({x, -6, 0});
+	for (int k = 1; k <= 18; ++k) truth.push_back({6, -6, M_PI / 2 * k / 18});
+	for (double y = -5.95; y < 6; y += 0.05) truth.push_back({6, y, M_PI / 2});
+	for (int k = 1; k <= 18; ++k) truth.push_back({6, 6, M_PI / 2 + M_PI / 2 * k / 18});
+	for (double x = 5.95; x > 2; x -= 0.05) truth.push_back({x, 6, M_PI});
+	const std::size_t resume = truth.size();
+	// Resumed near the start, facing north-east, and on along that heading.
+	for (double s = 0; s < 4; s += 0.05) truth.push_back({-5 + s * M_SQRT1_2, -6 + s * M_SQRT1_2, M_PI / 4});
+	// Odometry: exact before the gap; after it, the same motion from where the reading stood.
+	std::vector<TPose2D> odometry(truth.begin(), truth.begin() + std::ptrdiff_t(resume));
+	const mrpt::poses::CPose2D stood(truth[resume - 1]), from(truth[resume]);
+	for (std::size_t k = resume; k < truth.size(); ++k)
+		odometry.push_back((stood + (mrpt::poses::CPose2D(truth[k]) - from)).asTPose());
+	CarmenLogSpec spec;
+	const auto lines = splitLines(carmenLog(stickField(), truth, odometry, spec));
+	ASSERT_EQ(lines.size(), truth.size() + 2);
+	// 10 s of log missing between the two parts: the scans after it are stamped as if logged on.
+	spec.t0 += 10.0;
+	const auto later = splitLines(carmenLog(stickField(), truth, odometry, spec));
+	std::string text;
+	for (std::size_t i = 0; i < lines.size(); ++i) text += (i < resume + 2 ? lines[i] : later[i]) + "\n";
+	const auto log = d.write("carried.clf", text);
+
+	const auto a = mapLog(d, log, "carried");
+	EXPECT_EQ(a.result.output.find("tracking: ok"), std::string::npos) << a.result.output;
+	ASSERT_EQ(a.traj.size(), truth.size());
+	// Every scan after the gap where the truth has it, the ones reported while lost included.
+	double worst = 0;
+	for (std::size_t k = resume; k < truth.size(); ++k) worst = std::max(worst, errorAt(a.traj, truth, k));
+	EXPECT_LT(worst, 0.15);
+	double before = 0;
+	for (std::size_t k = 0; k < resume; ++k) before = std::max(before, errorAt(a.traj, truth, k));
+	EXPECT_LT(before, 0.1);
+	std::cout << "carried during a gap: worst error after it " << worst << " m, before it " << before << " m\n";
+}
