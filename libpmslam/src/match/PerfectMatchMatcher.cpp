@@ -318,6 +318,104 @@ PerfectMatchMatcher::MatchInfo matchInfo(const Evaluation& e)
 	return info;
 }
 
+/** Damped (LM) or plain Gauss-Newton on the weighted normal equations, from x; `it` counts the
+ * iterations. */
+Eigen::Vector3d gaussNewton(const CostFunction& f, const PerfectMatchMatcher::TConfigParams& o, Eigen::Vector3d x,
+							unsigned maxIterations, bool damped, unsigned& it)
+{
+	Evaluation cur = f(x, CostFunction::kNormal);
+	double lambda = damped ? 1e-3 : 0.0;
+	for (unsigned k = 0; k < maxIterations; ++k, ++it)
+	{
+		Eigen::Matrix3d A = cur.JtWJ;
+		if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
+		A.diagonal().array() += 1e-9;
+		if (!A.allFinite() || !cur.JtWr.allFinite()) break;	 // never hand NaN to the solver
+		Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
+		if (!dx.allFinite()) break;
+		Eigen::Vector3d xn = x + dx;
+		Evaluation next = f(xn, CostFunction::kNormal);
+		if (damped)
+		{
+			if (next.kernelCost > cur.kernelCost)
+			{
+				lambda *= 10;
+				if (lambda > 1e8) break;
+				continue;
+			}
+			lambda = std::max(1e-7, lambda / 10);
+		}
+		else
+		{
+			// A full Gauss-Newton step can overshoot into another basin where the
+			// linearisation is poor: halve it until the cost does not increase.
+			int halvings = 0;
+			while (next.kernelCost > cur.kernelCost && halvings < 4)
+			{
+				dx *= 0.5;
+				xn = x + dx;
+				next = f(xn, CostFunction::kNormal);
+				++halvings;
+			}
+			if (next.kernelCost > cur.kernelCost) break;  // no descent left: at the minimum
+		}
+		x = xn;
+		cur = next;
+		if (std::abs(dx[0]) < o.minStepXY && std::abs(dx[1]) < o.minStepXY &&
+			std::abs(dx[2]) < o.minStepPhi)
+		{
+			++it;
+			break;
+		}
+	}
+	return x;
+}
+
+/** iRprop−: each parameter has its own step that grows while the gradient keeps its sign and shrinks
+ * when it flips; only the sign of the gradient is used, which makes it insensitive to the scale of the
+ * cost. It can overshoot, so the best pose seen is the answer (its cost in `bestCost`); `it` counts
+ * the iterations. */
+Eigen::Vector3d rprop(const CostFunction& f, const PerfectMatchMatcher::TConfigParams& o,
+					  const Eigen::Vector3d& initial, unsigned& it, double& bestCost)
+{
+	Eigen::Vector3d x = initial, best = initial;
+	Evaluation cur = f(x, CostFunction::kCost);
+	bestCost = cur.cost;
+	Eigen::Vector3d step(o.rpropInitialStepXY, o.rpropInitialStepXY, o.rpropInitialStepPhi);
+	const Eigen::Vector3d maxStep(o.rpropMaxStepXY, o.rpropMaxStepXY, o.rpropMaxStepPhi);
+	const Eigen::Vector3d minStep(o.minStepXY, o.minStepXY, o.minStepPhi);
+	Eigen::Vector3d prevGrad = Eigen::Vector3d::Zero();
+	for (it = 0; it < o.maxIterations; ++it)
+	{
+		Eigen::Vector3d g = cur.gradient;
+		for (int k = 0; k < 3; ++k)
+		{
+			const double agree = g[k] * prevGrad[k];
+			if (agree > 0)
+				step[k] = std::min(step[k] * o.rpropIncrease, maxStep[k]);
+			else if (agree < 0)
+			{
+				step[k] = step[k] * o.rpropDecrease;
+				g[k] = 0;  // skip the update after a sign change
+			}
+			x[k] -= sign(g[k]) * step[k];
+		}
+		prevGrad = g;
+		cur = f(x, CostFunction::kCost);
+		if (cur.cost < bestCost - 1e-9 * std::abs(bestCost))
+		{
+			bestCost = cur.cost;
+			best = x;
+		}
+		// Converged: every step is tiny.
+		if ((step.array() < minStep.array()).all())
+		{
+			++it;
+			break;
+		}
+	}
+	return best;
+}
 }  // namespace
 
 PerfectMatchMatcher::PosePrior PerfectMatchMatcher::PosePrior::diagonal(const mrpt::math::TPose2D& mean,
@@ -366,114 +464,23 @@ mrpt::math::TPose2D PerfectMatchMatcher::alignPoints(const DynamicDistanceMap& m
 	if (!std::isfinite(initial.x) || !std::isfinite(initial.y) || !std::isfinite(initial.phi))
 		throw std::invalid_argument("PerfectMatchMatcher: the initial pose is not finite");
 	const CostFunction f(map, *pts, options, prior);
-	Eigen::Vector3d x(initial.x, initial.y, initial.phi);
-	const bool rprop = options.optimizer == Optimizer::RPROP;
-	unsigned it = 0;
-
-	// Damped (LM) or plain Gauss-Newton on the weighted normal equations, from x.
-	auto gaussNewton = [&](Eigen::Vector3d x, unsigned maxIterations, bool damped) {
-		Evaluation cur = f(x, CostFunction::kNormal);
-		double lambda = damped ? 1e-3 : 0.0;
-		for (unsigned k = 0; k < maxIterations; ++k, ++it)
-		{
-			Eigen::Matrix3d A = cur.JtWJ;
-			if (lambda > 0) A.diagonal() += lambda * cur.JtWJ.diagonal();
-			A.diagonal().array() += 1e-9;
-			if (!A.allFinite() || !cur.JtWr.allFinite()) break;	 // never hand NaN to the solver
-			Eigen::Vector3d dx = A.ldlt().solve(-cur.JtWr);
-			if (!dx.allFinite()) break;
-			Eigen::Vector3d xn = x + dx;
-			Evaluation next = f(xn, CostFunction::kNormal);
-			if (damped)
-			{
-				if (next.kernelCost > cur.kernelCost)
-				{
-					lambda *= 10;
-					if (lambda > 1e8) break;
-					continue;
-				}
-				lambda = std::max(1e-7, lambda / 10);
-			}
-			else
-			{
-				// A full Gauss-Newton step can overshoot into another basin where the
-				// linearisation is poor: halve it until the cost does not increase.
-				int halvings = 0;
-				while (next.kernelCost > cur.kernelCost && halvings < 4)
-				{
-					dx *= 0.5;
-					xn = x + dx;
-					next = f(xn, CostFunction::kNormal);
-					++halvings;
-				}
-				if (next.kernelCost > cur.kernelCost) break;  // no descent left: at the minimum
-			}
-			x = xn;
-			cur = next;
-			if (std::abs(dx[0]) < options.minStepXY && std::abs(dx[1]) < options.minStepXY &&
-				std::abs(dx[2]) < options.minStepPhi)
-			{
-				++it;
-				break;
-			}
-		}
-		return x;
-	};
-
 	Eigen::Vector3d best(initial.x, initial.y, initial.phi);
-	if (rprop)
+	unsigned it = 0;
+	if (options.optimizer == Optimizer::RPROP)
 	{
-		// iRprop−: each parameter has its own step that grows while the gradient
-		// keeps its sign and shrinks when it flips; only the sign of the gradient
-		// is used, which makes it insensitive to the scale of the cost. It can
-		// overshoot, so the best pose seen is the answer.
-		Eigen::Vector3d x = best;
-		Evaluation cur = f(x, CostFunction::kCost);
-		double bestCost = cur.cost;
-		Eigen::Vector3d step(options.rpropInitialStepXY, options.rpropInitialStepXY, options.rpropInitialStepPhi);
-		const Eigen::Vector3d maxStep(options.rpropMaxStepXY, options.rpropMaxStepXY, options.rpropMaxStepPhi);
-		const Eigen::Vector3d minStep(options.minStepXY, options.minStepXY, options.minStepPhi);
-		Eigen::Vector3d prevGrad = Eigen::Vector3d::Zero();
-		for (it = 0; it < options.maxIterations; ++it)
-		{
-			Eigen::Vector3d g = cur.gradient;
-			for (int k = 0; k < 3; ++k)
-			{
-				const double agree = g[k] * prevGrad[k];
-				if (agree > 0)
-					step[k] = std::min(step[k] * options.rpropIncrease, maxStep[k]);
-				else if (agree < 0)
-				{
-					step[k] = step[k] * options.rpropDecrease;
-					g[k] = 0;  // skip the update after a sign change
-				}
-				x[k] -= sign(g[k]) * step[k];
-			}
-			prevGrad = g;
-			cur = f(x, CostFunction::kCost);
-			if (cur.cost < bestCost - 1e-9 * std::abs(bestCost))
-			{
-				bestCost = cur.cost;
-				best = x;
-			}
-			// Converged: every step is tiny.
-			if ((step.array() < minStep.array()).all())
-			{
-				++it;
-				break;
-			}
-		}
+		double bestCost = 0;
+		best = rprop(f, options, best, it, bestCost);
 		// RPROP finds the basin; its sign-only steps end in a small oscillation. A few
 		// Gauss-Newton steps on the same cost land on the minimum itself, and are kept
 		// only if the cost agrees.
 		if (options.rpropRefineIterations > 0)
 		{
-			const Eigen::Vector3d refined = gaussNewton(best, options.rpropRefineIterations, false);
+			const Eigen::Vector3d refined = gaussNewton(f, options, best, options.rpropRefineIterations, false, it);
 			if (f(refined, CostFunction::kCost).cost <= bestCost) best = refined;
 		}
 	}
 	else
-		best = gaussNewton(best, options.maxIterations, options.optimizer == Optimizer::LevenbergMarquardt);
+		best = gaussNewton(f, options, best, options.maxIterations, options.optimizer == Optimizer::LevenbergMarquardt, it);
 
 	const Evaluation fin = f(best, CostFunction::kCurvature);
 	if (info)
