@@ -1,7 +1,9 @@
 /* pmslam — pose hypotheses for a scan (see HypothesisSearch.h). */
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
+#include <pmslam/match/BranchAndBoundSearch.h>
 #include <pmslam/match/CorrelativeSearch.h>
+#include <pmslam/match/LikelihoodPyramid.h>
 #include <pmslam/slam/HypothesisSearch.h>
 
 #include <algorithm>
@@ -45,6 +47,7 @@ SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost,
 	// good, and, without odometry, until a search has decided where the robot is: the prediction
 	// stays the stale one.
 	w.alwaysSearch = motion.stale || (lost && !motion.odometry);
+	w.afterGap = motion.gap;
 	if (motion.stale)
 	{
 		w.linear += m_options.relocalizeSpeed * motion.sincePrevious;
@@ -83,8 +86,10 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 	if ((!poor && !window.alwaysSearch) || (window.linear <= 0 && window.angular <= 0)) return h;
 	h.wideSearch = true;
 
-	const std::vector<CorrelativeSearch::Candidate> starts =
+	std::vector<CorrelativeSearch::Candidate> starts =
 		CorrelativeSearch::coarseToFine(map, hits, predicted, window.linear, window.angular);
+	if (window.afterGap)
+		for (const auto& p : wholeMapPlaces(map, hits)) starts.push_back({p, 0.0});
 	// A pose away from the prediction must be clearly better than the match there, and explain
 	// the scan as a normal match does: after a gap or in a look-alike place a mediocre candidate
 	// is more often a wrong pose than a right one. A stale prediction (alwaysSearch) has no such
@@ -115,7 +120,7 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 	// scan: every candidate nearly as good as the best, the prediction's own match among them, goes
 	// to the next scans, which decide; the motion prior weighs in from the start.
 	decltype(h.rivals) rivals;
-	if (relocalizing && window.alwaysSearch)
+	if ((relocalizing && window.alwaysSearch) || window.afterGap)
 	{
 		refined.emplace_back(atPrediction.pose, atPrediction.info.goodness);
 		infos.push_back(atPrediction.info);
@@ -134,6 +139,24 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 	}
 	h.rivals = std::move(rivals);
 	return h;
+}
+
+std::vector<mrpt::math::TPose2D> HypothesisSearch::wholeMapPlaces(const DynamicDistanceMap& map,
+																  const std::vector<mrpt::math::TPoint2Df>& hits)
+{
+	// As the back-end searches a stretch lost beyond its window (D46): the two-stage search, tens of
+	// milliseconds, whose misses only leave the window's candidates.
+	BranchAndBoundSearch::Options o;
+	o.candidates = 8;
+	o.minRelativeScore = 0.7;
+	o.maxPoints = 120;
+	o.rangeQuantile = 0.9;
+	const LikelihoodPyramid fine(map);
+	const BranchAndBoundSearch search(fine, o);
+	const LikelihoodPyramid coarse = search.coarsePyramid();
+	std::vector<mrpt::math::TPose2D> places;
+	for (const auto& c : search.searchGlobalCoarseToFine(hits, coarse).candidates) places.push_back(c.pose);
+	return places;
 }
 
 double HypothesisSearch::prior(const mrpt::math::TPose2D& pose, const mrpt::math::TPose2D& predicted,
