@@ -86,10 +86,8 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 	if ((!poor && !window.alwaysSearch) || (window.linear <= 0 && window.angular <= 0)) return h;
 	h.wideSearch = true;
 
-	std::vector<CorrelativeSearch::Candidate> starts =
+	const std::vector<CorrelativeSearch::Candidate> starts =
 		CorrelativeSearch::coarseToFine(map, hits, predicted, window.linear, window.angular);
-	if (window.afterGap)
-		for (const auto& p : wholeMapPlaces(map, hits)) starts.push_back({p, 0.0});
 	// A pose away from the prediction must be clearly better than the match there, and explain
 	// the scan as a normal match does: after a gap or in a look-alike place a mediocre candidate
 	// is more often a wrong pose than a right one. A stale prediction (alwaysSearch) has no such
@@ -116,18 +114,6 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 			h.relocalized = true;
 		}
 	}
-	// A stale prediction's re-localisation (a lidar alone after a gap) is where look-alikes fool one
-	// scan: every candidate nearly as good as the best, the prediction's own match among them, goes
-	// to the next scans, which decide; the motion prior weighs in from the start.
-	decltype(h.rivals) rivals;
-	if ((relocalizing && window.alwaysSearch) || window.afterGap)
-	{
-		refined.emplace_back(atPrediction.pose, atPrediction.info.goodness);
-		infos.push_back(atPrediction.info);
-		for (std::size_t i = 0; i < refined.size(); ++i)
-			if (refined[i].second >= bestGoodness - kRivalsWithin)
-				rivals.push_back({refined[i].first, infos[i], prior(refined[i].first, predicted, window)});
-	}
 	// In a re-localisation window, a clearly different pose that explains the scan nearly as well
 	// (a look-alike room, a repetitive corridor) leaves the pose undecided: keep searching on the
 	// next scans, from where the robot moves to somewhere that tells them apart.
@@ -136,6 +122,32 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 		h = atPrediction;
 		// A stale prediction is no fallback: where a lidar alone was before a gap it is not now.
 		h.undecided = window.alwaysSearch;
+	}
+	// D53: after a logging gap, a window that gave no clear answer (or a stale prediction's) is not
+	// the end of the search: the robot may have been carried or driven beyond it. The whole map's
+	// best places join the window's candidates.
+	const bool wholeMap = window.afterGap && (window.alwaysSearch || !h.relocalized);
+	double top = bestGoodness;
+	if (wholeMap)
+		for (const auto& p : wholeMapPlaces(map, hits))
+		{
+			PerfectMatchMatcher::MatchInfo info;
+			refined.emplace_back(matcher.alignPoints(map, hits, p, &info), info.goodness);
+			infos.push_back(info);
+			top = std::max(top, info.goodness);
+		}
+	// A stale prediction's re-localisation (a lidar alone after a gap), or one after a gap that the
+	// window could not decide, is where look-alikes fool one scan: every candidate nearly as good as
+	// the best, the prediction's own match among them, goes to the next scans, which decide; the
+	// motion prior weighs in from the start.
+	decltype(h.rivals) rivals;
+	if ((relocalizing && window.alwaysSearch) || wholeMap)
+	{
+		refined.emplace_back(atPrediction.pose, atPrediction.info.goodness);
+		infos.push_back(atPrediction.info);
+		for (std::size_t i = 0; i < refined.size(); ++i)
+			if (refined[i].second >= top - kRivalsWithin)
+				rivals.push_back({refined[i].first, infos[i], prior(refined[i].first, predicted, window)});
 	}
 	h.rivals = std::move(rivals);
 	return h;
