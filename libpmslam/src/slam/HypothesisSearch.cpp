@@ -1,9 +1,7 @@
 /* pmslam — pose hypotheses for a scan (see HypothesisSearch.h). */
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
-#include <pmslam/match/BranchAndBoundSearch.h>
 #include <pmslam/match/CorrelativeSearch.h>
-#include <pmslam/match/LikelihoodPyramid.h>
 #include <pmslam/slam/HypothesisSearch.h>
 
 #include <algorithm>
@@ -47,7 +45,6 @@ SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost,
 	// good, and, without odometry, until a search has decided where the robot is: the prediction
 	// stays the stale one.
 	w.alwaysSearch = motion.stale || (lost && !motion.odometry);
-	w.afterGap = motion.gap;
 	if (motion.stale)
 	{
 		w.linear += m_options.relocalizeSpeed * motion.sincePrevious;
@@ -114,6 +111,18 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 			h.relocalized = true;
 		}
 	}
+	// A stale prediction's re-localisation (a lidar alone after a gap) is where look-alikes fool one
+	// scan: every candidate nearly as good as the best, the prediction's own match among them, goes
+	// to the next scans, which decide; the motion prior weighs in from the start.
+	decltype(h.rivals) rivals;
+	if (relocalizing && window.alwaysSearch)
+	{
+		refined.emplace_back(atPrediction.pose, atPrediction.info.goodness);
+		infos.push_back(atPrediction.info);
+		for (std::size_t i = 0; i < refined.size(); ++i)
+			if (refined[i].second >= bestGoodness - kRivalsWithin)
+				rivals.push_back({refined[i].first, infos[i], prior(refined[i].first, predicted, window)});
+	}
 	// In a re-localisation window, a clearly different pose that explains the scan nearly as well
 	// (a look-alike room, a repetitive corridor) leaves the pose undecided: keep searching on the
 	// next scans, from where the robot moves to somewhere that tells them apart.
@@ -123,52 +132,8 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 		// A stale prediction is no fallback: where a lidar alone was before a gap it is not now.
 		h.undecided = window.alwaysSearch;
 	}
-	// D53: after a logging gap, a window that gave no clear answer (or a stale prediction's) is not
-	// the end of the search: the robot may have been carried or driven beyond it. The whole map's
-	// best places join the window's candidates.
-	const bool wholeMap = window.afterGap && (window.alwaysSearch || !h.relocalized);
-	double top = bestGoodness;
-	if (wholeMap)
-		for (const auto& p : wholeMapPlaces(map, hits))
-		{
-			PerfectMatchMatcher::MatchInfo info;
-			refined.emplace_back(matcher.alignPoints(map, hits, p, &info), info.goodness);
-			infos.push_back(info);
-			top = std::max(top, info.goodness);
-		}
-	// A stale prediction's re-localisation (a lidar alone after a gap), or one after a gap that the
-	// window could not decide, is where look-alikes fool one scan: every candidate nearly as good as
-	// the best, the prediction's own match among them, goes to the next scans, which decide; the
-	// motion prior weighs in from the start.
-	decltype(h.rivals) rivals;
-	if ((relocalizing && window.alwaysSearch) || wholeMap)
-	{
-		refined.emplace_back(atPrediction.pose, atPrediction.info.goodness);
-		infos.push_back(atPrediction.info);
-		for (std::size_t i = 0; i < refined.size(); ++i)
-			if (refined[i].second >= top - kRivalsWithin)
-				rivals.push_back({refined[i].first, infos[i], prior(refined[i].first, predicted, window)});
-	}
 	h.rivals = std::move(rivals);
 	return h;
-}
-
-std::vector<mrpt::math::TPose2D> HypothesisSearch::wholeMapPlaces(const DynamicDistanceMap& map,
-																  const std::vector<mrpt::math::TPoint2Df>& hits)
-{
-	// As the back-end searches a stretch lost beyond its window (D46): the two-stage search, tens of
-	// milliseconds, whose misses only leave the window's candidates.
-	BranchAndBoundSearch::Options o;
-	o.candidates = 8;
-	o.minRelativeScore = 0.7;
-	o.maxPoints = 120;
-	o.rangeQuantile = 0.9;
-	const LikelihoodPyramid fine(map);
-	const BranchAndBoundSearch search(fine, o);
-	const LikelihoodPyramid coarse = search.coarsePyramid();
-	std::vector<mrpt::math::TPose2D> places;
-	for (const auto& c : search.searchGlobalCoarseToFine(hits, coarse).candidates) places.push_back(c.pose);
-	return places;
 }
 
 double HypothesisSearch::prior(const mrpt::math::TPose2D& pose, const mrpt::math::TPose2D& predicted,

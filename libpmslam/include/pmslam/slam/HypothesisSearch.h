@@ -15,8 +15,7 @@
  * re-localisation, and holds look-alike places: when a clearly different pose
  * explains the scan nearly as well as the best (relocalizeAmbiguity), nothing is
  * decided and the next scans search again. A stale prediction's candidates go to
- * the scans instead (Rivals.h), each with its motion prior (prior()); so do those of a
- * poor match after a logging gap, the whole map's best places among them (D53).
+ * the scans instead (Rivals.h), each with its motion prior (prior()).
  */
 #pragma once
 
@@ -51,11 +50,6 @@ struct SearchWindow
 	/** The prediction is stale: search even when the match there looks good (it may be a look-alike
 	 * a few metres back), and let the best explanation of the scan win. */
 	bool alwaysSearch = false;
-	/** After a logging gap (no scan for a while): the robot may have been driven or carried anywhere
-	 * meanwhile, and where its odometry puts it is only the likeliest place. A poor match there is
-	 * searched for on the whole map as well as in the window, and every place that explains the scan
-	 * nearly as well as the best goes to the scans, the motion prior weighing in (D53). */
-	bool afterGap = false;
 	/** Where the robot would be had it stopped: the motion prior is centred on the stretch from here
 	 * to the prediction (the same pose unless the prediction was extrapolated without odometry). */
 	mrpt::math::TPose2D stoppedAt;
@@ -105,10 +99,6 @@ class HypothesisSearch
 
    private:
 	HypothesisSearchOptions m_options;
-	/** The best distinct places of `hits` on the whole of `map` (branch and bound, coarse to fine),
-	 * not yet refined. */
-	static std::vector<mrpt::math::TPose2D> wholeMapPlaces(const DynamicDistanceMap& map,
-															 const std::vector<mrpt::math::TPoint2Df>& hits);
 	/** A refined candidate clearly away from `best` scores within relocalizeAmbiguity of `bestGoodness`. */
 	bool lookAlike(const std::vector<std::pair<mrpt::math::TPose2D, double>>& refined, const mrpt::math::TPose2D& best,
 				   double bestGoodness) const;
