@@ -497,14 +497,17 @@ TEST(Robustness, DISABLED_ARobotCarriedOntoMappedGroundDuringAGapIsFoundOrSaidLo
 	const mrpt::poses::CPose2D stood(truth[resume - 1]), from(truth[resume]);
 	for (std::size_t k = resume; k < truth.size(); ++k)
 		odometry.push_back((stood + (mrpt::poses::CPose2D(truth[k]) - from)).asTPose());
+	// Two parts with 10 s of log missing between them: the second stamped as if logged on.
+	const auto cut = [&](const std::vector<TPose2D>& v, std::size_t from, std::size_t to) {
+		return std::vector<TPose2D>(v.begin() + std::ptrdiff_t(from), v.begin() + std::ptrdiff_t(to));
+	};
 	CarmenLogSpec spec;
-	const auto lines = splitLines(carmenLog(stickField(), truth, odometry, spec));
-	ASSERT_EQ(lines.size(), truth.size() + 2);
-	// 10 s of log missing between the two parts: the scans after it are stamped as if logged on.
-	spec.t0 += 10.0;
-	const auto later = splitLines(carmenLog(stickField(), truth, odometry, spec));
-	std::string text;
-	for (std::size_t i = 0; i < lines.size(); ++i) text += (i < resume + 2 ? lines[i] : later[i]) + "\n";
+	std::string text = carmenLog(stickField(), cut(truth, 0, resume), cut(odometry, 0, resume), spec);
+	spec.t0 += spec.dt * double(resume) + 10.0;
+	const auto later = splitLines(carmenLog(stickField(), cut(truth, resume, truth.size()),
+											cut(odometry, resume, truth.size()), spec));
+	ASSERT_EQ(later.size(), truth.size() - resume + 2);
+	for (std::size_t i = 2; i < later.size(); ++i) text += later[i] + "\n";  // without its two header lines
 	const auto log = d.write("carried.clf", text);
 
 	const auto a = mapLog(d, log, "carried");
