@@ -1,7 +1,9 @@
 /* pmslam — pose hypotheses for a scan (see HypothesisSearch.h). */
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
+#include <pmslam/match/BranchAndBoundSearch.h>
 #include <pmslam/match/CorrelativeSearch.h>
+#include <pmslam/match/LikelihoodPyramid.h>
 #include <pmslam/slam/HypothesisSearch.h>
 
 #include <algorithm>
@@ -18,6 +20,10 @@ constexpr double kRivalsWithin = 0.15;
 // How much better than the match from the prediction a pose away from it must score (D12): in a
 // look-alike place a somewhat better pose is as often the wrong one as the right one.
 constexpr double kClearlyBetter = 0.15;
+// D53: how much better than the window's answer after a gap a place elsewhere on the map must explain
+// the scan to say that answer is wrong: twice a re-localisation's margin, for a place the motion
+// model did not expect.
+constexpr double kElsewhereBetter = 2 * kClearlyBetter;
 }  // namespace
 
 SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost, double sinceAccepted) const
@@ -45,6 +51,7 @@ SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost,
 	// good, and, without odometry, until a search has decided where the robot is: the prediction
 	// stays the stale one.
 	w.alwaysSearch = motion.stale || (lost && !motion.odometry);
+	w.afterGap = motion.gap;
 	if (motion.stale)
 	{
 		w.linear += m_options.relocalizeSpeed * motion.sincePrevious;
@@ -132,8 +139,43 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 		// A stale prediction is no fallback: where a lidar alone was before a gap it is not now.
 		h.undecided = window.alwaysSearch;
 	}
+	// D53: after a gap, a poor answer the window could not improve on may be a wrong pose that fits a
+	// little of the scan (the robot carried beyond the window): where a place elsewhere on the map
+	// explains the scan clearly better, nothing is decided, and the scans choose between those places.
+	if (window.afterGap && rivals.empty() && h.info.goodness < m_options.minGoodness)
+	{
+		rivals = clearlyBetterElsewhere(matcher, map, hits, h, predicted, window);
+		h.undecided = !rivals.empty();
+	}
 	h.rivals = std::move(rivals);
 	return h;
+}
+
+std::vector<Candidate> HypothesisSearch::clearlyBetterElsewhere(const PerfectMatchMatcher& matcher,
+																const DynamicDistanceMap& map,
+																const std::vector<mrpt::math::TPoint2Df>& hits,
+																const Hypothesis& h, const mrpt::math::TPose2D& predicted,
+																const SearchWindow& window) const
+{
+	// The whole map's best places (branch and bound, coarse to fine, as the back-end searches a
+	// stretch lost beyond its window: D46), refined by PM.
+	BranchAndBoundSearch::Options o;
+	o.candidates = 8;
+	o.minRelativeScore = 0.7;
+	o.maxPoints = 120;
+	o.rangeQuantile = 0.9;
+	const LikelihoodPyramid fine(map);
+	const BranchAndBoundSearch search(fine, o);
+	const LikelihoodPyramid coarse = search.coarsePyramid();
+	const double needed = std::max(m_options.wideSearchBelowGoodness, h.info.goodness + kElsewhereBetter);
+	std::vector<Candidate> better;
+	for (const auto& c : search.searchGlobalCoarseToFine(hits, coarse).candidates)
+	{
+		PerfectMatchMatcher::MatchInfo info;
+		const mrpt::math::TPose2D p = matcher.alignPoints(map, hits, c.pose, &info);
+		if (info.goodness >= needed) better.push_back({p, info, prior(p, predicted, window)});
+	}
+	return better;
 }
 
 double HypothesisSearch::prior(const mrpt::math::TPose2D& pose, const mrpt::math::TPose2D& predicted,

@@ -57,6 +57,7 @@ HypothesisSearchOptions searchOptions(const MapBuilderOptions& o)
 {
 	HypothesisSearchOptions h;
 	h.wideSearchBelowGoodness = o.wideSearchBelowGoodness;
+	h.minGoodness = o.minGoodness;
 	h.wideSearchLinear = o.wideSearchLinear;
 	h.wideSearchAngular = o.wideSearchAngular;
 	h.relocalizeSpeed = o.relocalizeSpeed;
@@ -115,6 +116,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_scanMotion.emplace(PM_options.grid.resolution, PM_options.grid.maxDistance);
 	m_noise.emplace(PM_params.sigma);
 	m_revised.clear();
+	m_revisedLater.clear();
 	m_smoother.reset();
 	if (PM_options.odometrySmoothing)
 	{
@@ -384,7 +386,9 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 	}
 	if (verdict != TrackingState::Tracking)
 	{
-		if (r.undecided && !m_rivals->empty()) r.pose = best.pose;	// the leading look-alike, for now
+		// Reported, for now, where the motion model has the robot: the odometry's prediction, or
+		// without odometry (a stale one) the leading look-alike. A decision revises these poses.
+		if (r.undecided && !m_rivals->empty() && !motion.odometry) r.pose = best.pose;
 		r.rejected = true;
 		++m_rejected;
 		m_ambiguous += verdict == TrackingState::Ambiguous;
@@ -467,8 +471,14 @@ std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> PerfectMatchSlam::takeS
 		if (m_loops)  // back to the frame the front-end had at each scan
 			for (auto& [i, p] : out) p = m_frames.toScanFrame(i, p);
 	}
-	// Scans reported while look-alike rivals were undecided: where the winner had them (after the
-	// smoother's, which had the leader of the moment).
+	// Scans reported while look-alike rivals were undecided: where the winner had them. The smoother
+	// had them where they were reported (the prediction, or the leader of the moment), so its poses
+	// of those scans, now or when it gets to them, give way to the winner's.
+	for (auto& [i, p] : out)
+		if (const auto it = m_revisedLater.find(i); it != m_revisedLater.end()) p = it->second;
+	if (!out.empty()) m_revisedLater.erase(m_revisedLater.begin(), m_revisedLater.upper_bound(out.back().first));
+	if (m_smoother)
+		for (const auto& [i, p] : m_revised) m_revisedLater[i] = p;
 	out.insert(out.end(), m_revised.begin(), m_revised.end());
 	m_revised.clear();
 	return out;

@@ -36,6 +36,7 @@ namespace pmslam
 struct HypothesisSearchOptions
 {
 	double wideSearchBelowGoodness = 0;	 ///< 0 = never search
+	double minGoodness = 0;	 ///< a match below explains too little of the scan to be taken on its own (D7)
 	double wideSearchLinear = 0, wideSearchAngular = 0;	 ///< m, rad
 	double relocalizeSpeed = 0, relocalizeTurnRate = 0;	 ///< m/s, rad/s
 	double relocalizeOdometryError = 0;
@@ -50,6 +51,9 @@ struct SearchWindow
 	/** The prediction is stale: search even when the match there looks good (it may be a look-alike
 	 * a few metres back), and let the best explanation of the scan win. */
 	bool alwaysSearch = false;
+	/** After a logging gap (no scan for a while) the robot may have been carried or driven beyond the
+	 * window: a poor answer is checked against the whole map (D53). */
+	bool afterGap = false;
 	/** Where the robot would be had it stopped: the motion prior is centred on the stretch from here
 	 * to the prediction (the same pose unless the prediction was extrapolated without odometry). */
 	mrpt::math::TPose2D stoppedAt;
@@ -78,7 +82,8 @@ struct Hypothesis
 	bool fromAlternative = false;  ///< window.alternative was the better prediction
 	/** A stale prediction's re-localisation: every refined candidate, the prediction's own match
 	 * among them, that explains the scan nearly as well as the best, for the scans and the motion
-	 * prior to decide between (Rivals.h). */
+	 * prior to decide between (Rivals.h); after a gap, the whole map's places that explain the scan
+	 * clearly better than the window's answer (D53). */
 	std::vector<Candidate> rivals;
 };
 
@@ -99,6 +104,11 @@ class HypothesisSearch
 
    private:
 	HypothesisSearchOptions m_options;
+	/** The whole map's places that explain `hits` well (wideSearchBelowGoodness) and clearly better
+	 * than `h`, each refined, as rivals with their motion prior. */
+	std::vector<Candidate> clearlyBetterElsewhere(const PerfectMatchMatcher& matcher, const DynamicDistanceMap& map,
+												  const std::vector<mrpt::math::TPoint2Df>& hits, const Hypothesis& h,
+												  const mrpt::math::TPose2D& predicted, const SearchWindow& window) const;
 	/** A refined candidate clearly away from `best` scores within relocalizeAmbiguity of `bestGoodness`. */
 	bool lookAlike(const std::vector<std::pair<mrpt::math::TPose2D, double>>& refined, const mrpt::math::TPose2D& best,
 				   double bestGoodness) const;

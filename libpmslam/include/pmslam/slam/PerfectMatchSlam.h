@@ -64,6 +64,7 @@
 #include <pmslam/match/PerfectMatchMatcher.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -290,6 +291,7 @@ class PerfectMatchSlam
 	std::optional<SensorNoise> m_noise;	 // each lidar's range noise, and the σ its scans are matched with
 	std::optional<Rivals> m_rivals;	// look-alike poses of a lidar alone after a gap, until the scans decide
 	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> m_revised;	 // the winner's poses of undecided scans
+	std::map<std::size_t, mrpt::math::TPose2D> m_revisedLater;	// ... replacing the smoother's, still to come
 	std::optional<OdometrySmoother> m_smoother;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	bool m_mapEmpty = true;
