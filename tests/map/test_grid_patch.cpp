@@ -126,6 +126,50 @@ TEST(GridPatch, ReplacingTheMovedScansBlocksGivesTheRebuiltMap)
 	expectSameMap(live, rebuilt);
 }
 
+// The loop closure builds a patch in two parts side by side (two disjoint sets of blocks, each part
+// re-inserting every scan), then copies one part into the other: a cell depends only on the scans
+// that reach it, so the result is the patch built in one piece, cell for cell.
+TEST(GridPatch, APatchBuiltInTwoPartsIsThePatchBuiltInOne)
+{
+	const Corridor c;
+	std::vector<TPose2D> moved = c.poses;
+	for (std::size_t i = 40; i < 120; ++i) moved[i].y += 0.3 * std::sin(0.1 * double(i));
+	OccupancyDistanceGridMap whole;
+	BlockMask blocks;
+	for (std::size_t i = 40; i < 120; ++i)
+	{
+		whole.addBlocksTouched(c.scans[i], c.poses[i], blocks);
+		whole.addBlocksTouched(c.scans[i], moved[i], blocks);
+	}
+	blocks.freeze();
+	BlockMask parts[2];	 // alternate columns of blocks: every scan reaches both parts
+	blocks.forEach([&](int bx, int by) { parts[bx & 1].add(bx, by); });
+	for (auto& p : parts) p.freeze();
+	ASSERT_GT(parts[0].count(), 10u);
+	ASSERT_GT(parts[1].count(), 10u);
+	OccupancyDistanceGridMap first, second;
+	for (std::size_t i = 0; i < c.poses.size(); ++i)
+	{
+		whole.insertScanWithin(c.scans[i], moved[i], blocks);
+		first.insertScanWithin(c.scans[i], moved[i], parts[0]);
+		second.insertScanWithin(c.scans[i], moved[i], parts[1]);
+	}
+	first.copyBlocks(second, parts[1]);
+	std::size_t cells = 0, different = 0;
+	blocks.forEach([&](int bx, int by) {
+		constexpr int S = SparseOccupancyGrid::Blocks::kSide;
+		for (int y = by * S; y < (by + 1) * S; ++y)
+			for (int x = bx * S; x < (bx + 1) * S; ++x)
+			{
+				++cells;
+				different += first.cells().get(x, y) != whole.cells().get(x, y);
+			}
+	});
+	EXPECT_EQ(cells, blocks.count() * 1024u);
+	EXPECT_EQ(different, 0u);
+	EXPECT_EQ(first.cells().blockCount(), whole.cells().blockCount());
+}
+
 TEST(GridPatch, TheBlocksTouchedAreThoseInsertionChanges)
 {
 	// addBlocksTouched() against the blocks an insertion into an empty map allocates.

@@ -7,8 +7,10 @@
 #include <malloc.h>
 #include <pmslam/match/BranchAndBoundSearch.h>
 #include <pmslam/match/CorrelativeSearch.h>
+#include <pmslam/util/Concurrently.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -53,6 +55,28 @@ constexpr double kWideWindow = 4.0;
 constexpr double kLocalMapChunk = 4.0, kReachStep = 0.25;
 constexpr std::size_t kCachedLocalMaps = 4;
 
+// The blocks of `all` (frozen) west of the middle one's column, and the others (both frozen).
+std::array<BlockMask, 2> splitWestEast(const BlockMask& all)
+{
+	std::vector<int> columns;
+	all.forEach([&](int bx, int) { columns.push_back(bx); });
+	std::array<BlockMask, 2> halves;
+	if (!columns.empty())
+	{
+		std::nth_element(columns.begin(), columns.begin() + columns.size() / 2, columns.end());
+		const int middle = columns[columns.size() / 2];
+		all.forEach([&](int bx, int by) { halves[bx < middle ? 0 : 1].add(bx, by); });
+	}
+	for (auto& h : halves) h.freeze();
+	return halves;
+}
+
+// Keyframes after a detection attempt at which its verified matches are admitted: meanwhile the
+// verification runs beside the worker and the front-end, which a log replayed faster than real time
+// would otherwise hold up at every attempt. A fixed number of keyframes, not "when it is done": a run
+// is the same whatever the machine's load.
+constexpr std::size_t kVerifyLag = 0;
+
 // A whole-map search (D46): the distinct places taken (within 0.8 of the best's score), the window each is
 // verified in (the coarse-to-fine search's places are exact on its lattice; PM refines within a cell or two),
 // and how near a keyframe from before the loss must be to a place for its visit's local map to hold it.
@@ -86,6 +110,8 @@ LoopClosure::LoopClosure(const LoopClosureOptions& options, const PerfectMatchMa
 LoopClosure::~LoopClosure()
 {
 	if (m_job.valid()) m_job.wait();
+	for (auto& a : m_attempts)
+		if (a.verified.valid()) a.verified.wait();
 }
 
 void LoopClosure::addFixedScan(const TPose2D& pose, ScanPoints scan) { m_fixed.emplace_back(pose, std::move(scan)); }
@@ -422,6 +448,7 @@ std::vector<LoopClosure::Update> LoopClosure::finish()
 	std::vector<Update> out;
 	if (auto u = sync()) out.push_back(std::move(*u));
 	const auto t0 = std::chrono::steady_clock::now();
+	admitVerified(SIZE_MAX);
 	JobResult r;
 	r.optimized = optimizeIfDue(true);
 	// Every keyframe at its final pose, however little it moved (a micrometre: not the rounding of
@@ -447,7 +474,7 @@ std::size_t LoopClosure::memoryBytes() const
 		b += sizeof(ScanPoints) + (n.scan->hits.capacity() + n.scan->freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
 	for (const auto& [pose, scan] : m_fixed)
 		b += (scan.hits.capacity() + scan.freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
-	for (const auto& c : m_localMaps) b += c.map->memoryBytes() + c.keyframes.capacity() * sizeof(c.keyframes[0]);
+	for (const auto& [spec, map] : m_localMaps) b += map->memoryBytes() + spec.keyframes.capacity() * sizeof(spec.keyframes[0]);
 	// The graph: a map node and an edge record each (std::map nodes hold ~4 pointers of overhead).
 	b += m_graph.nodeCount() * (sizeof(TPose2D) + sizeof(PoseGraph::NodeId) + 4 * sizeof(void*)) +
 		 m_graph.edgeCount() * sizeof(PoseGraphEdge);
@@ -461,6 +488,7 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node, std::optional<Eigen
 	const std::size_t attempts = m_stats.attempts;
 	if (frontEndHessian) linkRevisit(node, *frontEndHessian);
 	detect(node);
+	admitVerified(node);
 	detectGlobal(node);
 	++m_sinceOptimization;
 	optimizeAndPatch(m_loopOpen, r);
@@ -528,20 +556,38 @@ void LoopClosure::detect(std::size_t node)
 	if (best[0] == SIZE_MAX) return;
 	m_lastAttempt = n.travel;
 	++m_stats.attempts;
-	// Matches of the last agreeWindow metres that were not accepted age out.
-	m_matches.erase(std::remove_if(m_matches.begin(), m_matches.end(),
-								   [&](const Match& m) {
-									   return !m.accepted && n.travel - m_nodes[m.to].travel > m_opts.agreeWindow;
-								   }),
-					m_matches.end());
-	std::vector<Match> verified;
+	// The visits are verified beside the worker, and the matches admitted kVerifyLag keyframes later.
+	std::vector<Visit> visits;
 	for (std::size_t c : best)
 	{
 		if (c == SIZE_MAX) continue;
 		const double back = n.travel - m_nodes[c].travel;
-		if (std::optional<Match> m = verify(node, c, radius(back), angle(back))) verified.push_back(*m);
+		visits.push_back(visit(node, c, radius(back), angle(back)));
 	}
-	admit(node, verified);
+	const auto policy = m_opts.background ? std::launch::async : std::launch::deferred;
+	m_attempts.push_back({node, std::async(policy, [this, v = std::move(visits)]() mutable { return verifyVisits(std::move(v)); })});
+}
+
+void LoopClosure::admitVerified(std::size_t node)
+{
+	while (!m_attempts.empty() && (node == SIZE_MAX || m_attempts.front().node + kVerifyLag <= node))
+	{
+		Attempt a = std::move(m_attempts.front());
+		m_attempts.pop_front();
+		Verified v = a.verified.get();
+		cacheLocalMaps(v.built);
+		// Matches of the last agreeWindow metres that were not accepted age out.
+		const double travel = m_nodes[a.node].travel;
+		m_matches.erase(std::remove_if(m_matches.begin(), m_matches.end(),
+									   [&](const Match& m) {
+										   return !m.accepted && travel - m_nodes[m.to].travel > m_opts.agreeWindow;
+									   }),
+						m_matches.end());
+		std::vector<Match> verified;
+		for (const auto& m : v.matches)
+			if (m) verified.push_back(*m);
+		admit(a.node, verified);
+	}
 }
 
 void LoopClosure::admit(std::size_t node, std::vector<Match>& verified)
@@ -660,7 +706,9 @@ void LoopClosure::detectGlobal(std::size_t node)
 		// room or corridor that looks alike both ways, needs as many as one 20 m off). Not bounded by
 		// the doubt: that follows the net odometry across the loss, not the path driven meanwhile.
 		const double correction = distance(c.pose, x) + kDoubtLever * std::abs(mrpt::math::wrapToPi(c.pose.phi - x.phi));
-		std::optional<Match> m = verify(node, nearest, kGlobalWindow, kGlobalAngle, c.pose);
+		Verified v = verifyVisits({visit(node, nearest, kGlobalWindow, kGlobalAngle, c.pose)});
+		cacheLocalMaps(v.built);
+		std::optional<Match> m = v.matches.front();
 		if (!m) continue;
 		m->window = std::max(m->window, correction);
 		verified.push_back(*m);
@@ -670,11 +718,19 @@ void LoopClosure::detectGlobal(std::size_t node)
 	m_stats.globalSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::size_t candidate, double linWindow,
-													  double angWindow, const std::optional<TPose2D>& searchCentre)
+LoopClosure::Visit LoopClosure::visit(std::size_t node, std::size_t candidate, double linWindow, double angWindow,
+									  const std::optional<TPose2D>& centre)
 {
 	const Node& n = m_nodes[node];
-	const double centre = m_nodes[candidate].travel;
+	Visit v;
+	v.node = node;
+	v.candidate = candidate;
+	v.scan = n.scan;
+	v.sigma = n.sigma;
+	v.centre = centre ? *centre : m_graph.pose(node);
+	v.candidatePose = m_graph.pose(candidate);
+	v.linWindow = linWindow;
+	v.angWindow = angWindow;
 	// The candidate's neighbourhood, none of it recent: localMapExtent metres of path on either side,
 	// or as far as the window reaches (in a wide window the right place may be that far along the
 	// visit, and with it in the map a look-alike part of the visit cannot win unseen). Its distance
@@ -683,20 +739,66 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	//
 	// The stretch is widened to whole chunks of kLocalMapChunk metres of path, and the distance layer's
 	// reach rounded up to kReachStep, so that the attempts of the next metres, whose candidates lie a
-	// little further along the same visit, find that local map built already (localMap()).
+	// little further along the same visit, find that local map built already (m_localMaps).
+	const double middle = m_nodes[candidate].travel;
 	const double extent = std::max(m_opts.localMapExtent, linWindow);
-	const double from = std::floor((centre - extent) / kLocalMapChunk) * kLocalMapChunk;
-	const double to = std::ceil((centre + extent) / kLocalMapChunk) * kLocalMapChunk;
+	const double from = std::floor((middle - extent) / kLocalMapChunk) * kLocalMapChunk;
+	const double to = std::ceil((middle + extent) / kLocalMapChunk) * kLocalMapChunk;
 	const double reach = std::min(2.0, 1.5 * linWindow / 8);
-	const double maxDistance =
+	v.local.maxDistance =
 		reach <= m_gridOpts.maxDistance ? m_gridOpts.maxDistance : std::ceil(reach / kReachStep) * kReachStep;
-	std::size_t lo = candidate;
-	while (lo > 0 && m_nodes[lo - 1].travel >= from) --lo;
-	const std::shared_ptr<const OccupancyDistanceGridMap> localPtr = localMap(node, lo, to, maxDistance);
-	const OccupancyDistanceGridMap& local = *localPtr;
+	std::size_t first = candidate;
+	while (first > 0 && m_nodes[first - 1].travel >= from) --first;
+	for (std::size_t i = first; i < node; ++i)
+	{
+		if (m_nodes[i].travel > to || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
+		v.local.keyframes.emplace_back(i, m_graph.pose(i));
+	}
+	const auto hit = std::find_if(m_localMaps.begin(), m_localMaps.end(),
+								  [&](const auto& c) { return c.first == v.local; });
+	if (hit != m_localMaps.end())
+	{
+		v.map = hit->second;
+		std::rotate(m_localMaps.begin(), hit, hit + 1);	 // most recently used first
+	}
+	else
+		for (const auto& [i, pose] : v.local.keyframes) v.localScans.push_back(m_nodes[i].scan);
+	return v;
+}
+
+LoopClosure::Verified LoopClosure::verifyVisits(std::vector<Visit> visits) const
+{
+	// The local maps not cached, each built once (two visits may share one), then every visit's match:
+	// each piece side by side with the others. A map is the same whichever thread builds it, and a
+	// match the same whenever it runs: the results do not depend on the threads.
+	Verified out;
+	std::vector<std::size_t> toBuild;
+	for (std::size_t k = 0; k < visits.size(); ++k)
+		if (!visits[k].map && std::none_of(toBuild.begin(), toBuild.end(), [&](std::size_t j) {
+				return visits[j].local == visits[k].local;
+			}))
+			toBuild.push_back(k);
+	concurrently(toBuild.size(), [&](std::size_t b) { visits[toBuild[b]].map = buildLocalMap(visits[toBuild[b]]); });
+	for (auto& v : visits)
+		for (std::size_t j : toBuild)
+			if (!v.map && visits[j].local == v.local) v.map = visits[j].map;
+	out.matches.resize(visits.size());
+	concurrently(visits.size(), [&](std::size_t k) { out.matches[k] = verifyOn(*visits[k].map, visits[k]); });
+	for (std::size_t j : toBuild)
+	{
+		visits[j].localScans.clear();
+		out.built.push_back(std::move(visits[j]));
+	}
+	return out;
+}
+
+std::optional<LoopClosure::Match> LoopClosure::verifyOn(const OccupancyDistanceGridMap& local, const Visit& v) const
+{
+	const ScanPoints& scan = *v.scan;
+	const double linWindow = v.linWindow, angWindow = v.angWindow;
 	const DynamicDistanceMap& dm = local.distanceMap();
-	const std::vector<mrpt::math::TPoint2Df>& hits = n.scan->hits;
-	const TPose2D x = searchCentre ? *searchCentre : m_graph.pose(node);
+	const std::vector<mrpt::math::TPoint2Df>& hits = scan.hits;
+	const TPose2D& x = v.centre;
 	struct Refined
 	{
 		TPose2D pose;
@@ -706,7 +808,7 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 	// A wide window holds more look-alike peaks: more of them refined, for the ambiguity test below.
 	const std::size_t peaks = linWindow > kWideWindow ? 8 : 4;
 	PerfectMatchMatcher matcher = m_matcher;
-	if (std::isfinite(n.sigma)) matcher.options.sigma = n.sigma;  // D52: a noisier lidar's own σ
+	if (std::isfinite(v.sigma)) matcher.options.sigma = v.sigma;  // D52: a noisier lidar's own σ
 	for (const auto& s : CorrelativeSearch::coarseToFine(dm, hits, x, linWindow, angWindow, peaks))
 	{
 		Refined r;
@@ -740,49 +842,42 @@ std::optional<LoopClosure::Match> LoopClosure::verify(std::size_t node, std::siz
 		if (distinct && o.info.goodness > best.info.goodness - m_opts.ambiguityMargin) return std::nullopt;
 	}
 	Match m;
-	m.from = candidate;
-	m.to = node;
-	const TPose2D xc = m_graph.pose(candidate);
+	m.from = v.candidate;
+	m.to = v.node;
+	const TPose2D& xc = v.candidatePose;
 	m.z = relativePose(xc, best.pose);
 	m.information = toEdgeFrame(best.info.hessian / m_opts.informationScale, xc.phi) + kLoopFloor;
 	m.window = linWindow;
 	return m;
 }
 
-std::shared_ptr<const OccupancyDistanceGridMap> LoopClosure::localMap(std::size_t node, std::size_t first,
-																	   double lastTravel, double maxDistance)
+bool LoopClosure::LocalMapSpec::operator==(const LocalMapSpec& o) const
 {
-	const Node& n = m_nodes[node];
-	CachedLocalMap want;
-	want.maxDistance = maxDistance;
-	for (std::size_t i = first; i < node; ++i)
-	{
-		if (m_nodes[i].travel > lastTravel || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
-		want.keyframes.emplace_back(i, m_graph.pose(i));
-	}
-	const auto same = [&](const CachedLocalMap& c) {
-		return c.maxDistance == want.maxDistance && c.keyframes.size() == want.keyframes.size() &&
-			   std::equal(c.keyframes.begin(), c.keyframes.end(), want.keyframes.begin(), [](const auto& a, const auto& b) {
-				   return a.first == b.first && a.second.x == b.second.x && a.second.y == b.second.y &&
-						  a.second.phi == b.second.phi;
-			   });
-	};
-	const auto hit = std::find_if(m_localMaps.begin(), m_localMaps.end(), same);
-	if (hit != m_localMaps.end())
-	{
-		std::rotate(m_localMaps.begin(), hit, hit + 1);	 // most recently used first
-		return m_localMaps.front().map;
-	}
+	return maxDistance == o.maxDistance && keyframes.size() == o.keyframes.size() &&
+		   std::equal(keyframes.begin(), keyframes.end(), o.keyframes.begin(), [](const auto& p, const auto& q) {
+			   return p.first == q.first && p.second.x == q.second.x && p.second.y == q.second.y && p.second.phi == q.second.phi;
+		   });
+}
+
+std::shared_ptr<const OccupancyDistanceGridMap> LoopClosure::buildLocalMap(const Visit& v) const
+{
 	OccupancyGridUpdateOptions opts = m_gridOpts;
-	opts.maxDistance = maxDistance;
+	opts.maxDistance = v.local.maxDistance;
 	auto map = std::make_shared<OccupancyDistanceGridMap>(opts);
 	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
-	for (const auto& [i, pose] : want.keyframes) scans.emplace_back(pose, m_nodes[i].scan.get());
+	for (std::size_t k = 0; k < v.local.keyframes.size(); ++k)
+		scans.emplace_back(v.local.keyframes[k].second, v.localScans[k].get());
 	map->insertScans(scans);
-	want.map = std::move(map);
-	m_localMaps.insert(m_localMaps.begin(), std::move(want));
-	if (m_localMaps.size() > kCachedLocalMaps) m_localMaps.pop_back();
-	return m_localMaps.front().map;
+	return map;
+}
+
+void LoopClosure::cacheLocalMaps(const std::vector<Visit>& built)
+{
+	for (const Visit& v : built)
+	{
+		m_localMaps.insert(m_localMaps.begin(), {v.local, v.map});
+		if (m_localMaps.size() > kCachedLocalMaps) m_localMaps.pop_back();
+	}
 }
 
 TPose2D LoopClosure::disagreement(const Match& a, const Match& b) const
@@ -859,18 +954,26 @@ void LoopClosure::patchMoved(double trigger, double reinsert, JobResult& r)
 	// Rebuilt from every scan that reaches them, in the order the map got them, each at the pose
 	// it will have in the map: those cells then hold what a map rebuilt from all keyframes would.
 	const double res = m_gridOpts.resolution;
-	const auto reaches = [&](const TPose2D& p, double reach) {
+	const auto reaches = [&](const BlockMask& only, const TPose2D& p, double reach) {
 		using Blocks = SparseOccupancyGrid::Blocks;
 		const auto block = [&](double v) { return Blocks::blockOf(static_cast<int>(std::floor(v / res))); };
 		reach += 2 * res;  // the cell of a point on the box's edge
-		return blocks->meets(block(p.x - reach), block(p.y - reach), block(p.x + reach), block(p.y + reach));
+		return only.meets(block(p.x - reach), block(p.y - reach), block(p.x + reach), block(p.y + reach));
 	};
-	for (const auto& [pose, scan] : m_fixed) patch->insertScanWithin(scan, pose, *blocks);
-	for (std::size_t i = 0; i < m_nodes.size(); ++i)
-	{
-		const TPose2D& p = moved[i] ? m_graph.pose(i) : m_nodes[i].mapPose;
-		if (reaches(p, m_nodes[i].reach)) patch->insertScanWithin(*m_nodes[i].scan, p, *blocks);
-	}
+	// A cell's value depends only on the scans that reach it, in order: the blocks west and east of
+	// the middle one are rebuilt side by side, each half by every scan that reaches it.
+	const auto halves = splitWestEast(*blocks);
+	std::vector<std::shared_ptr<OccupancyDistanceGridMap>> parts{patch, std::make_shared<OccupancyDistanceGridMap>(m_gridOpts)};
+	concurrently(2, [&](std::size_t h) {
+		const BlockMask& only = halves[h];
+		for (const auto& [pose, scan] : m_fixed) parts[h]->insertScanWithin(scan, pose, only);
+		for (std::size_t i = 0; i < m_nodes.size(); ++i)
+		{
+			const TPose2D& p = moved[i] ? m_graph.pose(i) : m_nodes[i].mapPose;
+			if (reaches(only, p, m_nodes[i].reach)) parts[h]->insertScanWithin(*m_nodes[i].scan, p, only);
+		}
+	});
+	patch->copyBlocks(*parts[1], halves[1]);
 	// The front-end moves with the newest keyframe, if that moved.
 	const Node& last = m_nodes.back();
 	r.correction = moved.back() ? CPose2D(m_graph.pose(m_nodes.size() - 1)) + (-CPose2D(last.mapPose)) : CPose2D();

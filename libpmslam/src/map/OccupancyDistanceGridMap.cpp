@@ -326,6 +326,21 @@ std::size_t OccupancyDistanceGridMap::replaceBlocks(const OccupancyDistanceGridM
 	return flips;
 }
 
+void OccupancyDistanceGridMap::copyBlocks(const OccupancyDistanceGridMap& part, const BlockMask& blocks)
+{
+	if (part.m_opts.resolution != m_opts.resolution)
+		throw std::invalid_argument("OccupancyDistanceGridMap::copyBlocks: the part has another resolution");
+	constexpr int N = SparseOccupancyGrid::Blocks::kSide * SparseOccupancyGrid::Blocks::kSide;
+	blocks.forEach([&](int bx, int by) {
+		if (const SparseOccupancyGrid::Cell* from = part.m_cells.blockCells(bx, by))
+			std::copy(from, from + N, m_cells.obtainBlockCells(bx, by));
+		else
+			m_cells.releaseBlock(bx, by);
+	});
+	m_is_empty = m_cells.blockCount() == 0;
+	m_viewCurrent = false;
+}
+
 bool OccupancyDistanceGridMap::internal_insertObservation(const mrpt::obs::CObservation& obs,
 														   const std::optional<const mrpt::poses::CPose3D>& robotPose)
 {

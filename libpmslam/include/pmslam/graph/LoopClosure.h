@@ -74,6 +74,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
+#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
@@ -279,15 +280,51 @@ class LoopClosure
 	void detectGlobal(std::size_t node);
 	// The look-alike test, the agreement of recent matches, and the accepted ones into the graph.
 	void admit(std::size_t node, std::vector<Match>& verified);
-	// The keyframe's match against the local map of `candidate`'s visit, searched within the windows
-	// around `centre` (default: where the graph has the keyframe).
-	std::optional<Match> verify(std::size_t node, std::size_t candidate, double linWindow, double angWindow,
-								const std::optional<mrpt::math::TPose2D>& centre = std::nullopt);
-	// The local map of the keyframes from `first` on whose travel is at most `lastTravel` (and at least
-	// minTravel behind `node`), at their graph poses, with a distance layer reaching `maxDistance`: from
-	// the cache when those keyframes have not moved since it was built.
-	std::shared_ptr<const OccupancyDistanceGridMap> localMap(std::size_t node, std::size_t first, double lastTravel,
-															 double maxDistance);
+	// What verifying a keyframe against one visit needs, copied (the worker goes on changing the graph
+	// and the keyframes while it runs): the keyframe, the visit's keyframe (`candidate`) and the local
+	// map of its neighbourhood (its keyframes' ids, poses and scans), the windows and their centre.
+	struct LocalMapSpec
+	{
+		std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> keyframes;	 // id and pose to build it from
+		double maxDistance = 0;
+		bool operator==(const LocalMapSpec& o) const;  // the same map (the keyframes not moved since)
+	};
+	struct Visit
+	{
+		std::size_t node = 0, candidate = 0;
+		std::shared_ptr<const ScanPoints> scan;	 // the keyframe's
+		double sigma = std::nan("");
+		mrpt::math::TPose2D centre, candidatePose;	// the windows' centre; the candidate's graph pose
+		double linWindow = 0, angWindow = 0;
+		LocalMapSpec local;
+		std::vector<std::shared_ptr<const ScanPoints>> localScans;	// of local.keyframes
+		std::shared_ptr<const OccupancyDistanceGridMap> map;  // from the cache; else built from the above
+	};
+	// The keyframe `node`'s visit of `candidate` in the windows around `centre` (default: where the graph
+	// has the keyframe), its local map from the cache if there.
+	Visit visit(std::size_t node, std::size_t candidate, double linWindow, double angWindow,
+				const std::optional<mrpt::math::TPose2D>& centre = std::nullopt);
+	// The visits verified: the local maps that are not cached built, and each visit's match against its
+	// local map searched and checked, side by side. Reads only its argument and the options: it runs
+	// beside the worker.
+	struct Verified
+	{
+		std::vector<std::optional<Match>> matches;	// per visit
+		std::vector<Visit> built;  // the visits whose local maps were built (for the cache)
+	};
+	Verified verifyVisits(std::vector<Visit> visits) const;
+	std::optional<Match> verifyOn(const OccupancyDistanceGridMap& local, const Visit& v) const;
+	std::shared_ptr<const OccupancyDistanceGridMap> buildLocalMap(const Visit& v) const;
+	// The visits' local maps that verifyVisits() built, into the cache (most recently used first).
+	void cacheLocalMaps(const std::vector<Visit>& built);
+	// A detection attempt being verified; its matches are admitted kVerifyLag keyframes later.
+	struct Attempt
+	{
+		std::size_t node;
+		std::future<Verified> verified;
+	};
+	// Admits the attempts launched at keyframe `node` - kVerifyLag or before (all: SIZE_MAX), in order.
+	void admitVerified(std::size_t node);
 	// The likelihood pyramids (fine, coarse) of the map of every keyframe before the loss, built once
 	// per loss.
 	const std::pair<LikelihoodPyramid, LikelihoodPyramid>& mapBeforeLoss();
@@ -334,13 +371,8 @@ class LoopClosure
 	std::unique_ptr<std::pair<LikelihoodPyramid, LikelihoodPyramid>> m_beforeLoss;
 	// Local maps verified against lately, newest first (the worker's only): consecutive attempts at one
 	// place verify against the same stretch of an earlier visit.
-	struct CachedLocalMap
-	{
-		std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> keyframes;  // id and pose it was built from
-		double maxDistance = 0;
-		std::shared_ptr<const OccupancyDistanceGridMap> map;
-	};
-	std::vector<CachedLocalMap> m_localMaps;
+	std::vector<std::pair<LocalMapSpec, std::shared_ptr<const OccupancyDistanceGridMap>>> m_localMaps;
+	std::deque<Attempt> m_attempts;	 // launched, not yet admitted (oldest first)
 	std::vector<float> m_goodness;	// of the last tracked keyframes' matches (a ring)
 	std::size_t m_goodnessNext = 0;
 	bool m_handedOver = false;	// sync() just handed a new grid over: the front-end matched the old one

@@ -114,6 +114,9 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 	void addBlocksTouched(const ScanPoints& scan, const mrpt::math::TPose2D& pose, BlockMask& blocks) const;
 	void insertScanWithin(const ScanPoints& scan, const mrpt::math::TPose2D& pose, const BlockMask& only);
 	std::size_t replaceBlocks(const OccupancyDistanceGridMap& patch, const BlockMask& blocks);
+	/** The cells of `blocks` become those of `part` (a patch of other blocks of the same map, built
+	 * beside this one); the distance layer is not touched (a patch keeps none). */
+	void copyBlocks(const OccupancyDistanceGridMap& part, const BlockMask& blocks);
 
 	/** True when cell (global index) is an obstacle in the binarised grid. */
 	bool isOccupiedCell(int gx, int gy) const { return m_distance.isObstacle(gx, gy); }
