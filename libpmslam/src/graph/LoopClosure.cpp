@@ -71,11 +71,6 @@ std::array<BlockMask, 2> splitWestEast(const BlockMask& all)
 	return halves;
 }
 
-// Keyframes after a detection attempt at which its verified matches are admitted: meanwhile the
-// verification runs beside the worker and the front-end, which a log replayed faster than real time
-// would otherwise hold up at every attempt. A fixed number of keyframes, not "when it is done": a run
-// is the same whatever the machine's load.
-constexpr std::size_t kVerifyLag = 0;
 
 // A whole-map search (D46): the distinct places taken (within 0.8 of the best's score), the window each is
 // verified in (the coarse-to-fine search's places are exact on its lattice; PM refines within a cell or two),
@@ -110,8 +105,6 @@ LoopClosure::LoopClosure(const LoopClosureOptions& options, const PerfectMatchMa
 LoopClosure::~LoopClosure()
 {
 	if (m_job.valid()) m_job.wait();
-	for (auto& a : m_attempts)
-		if (a.verified.valid()) a.verified.wait();
 }
 
 void LoopClosure::addFixedScan(const TPose2D& pose, ScanPoints scan) { m_fixed.emplace_back(pose, std::move(scan)); }
@@ -448,7 +441,6 @@ std::vector<LoopClosure::Update> LoopClosure::finish()
 	std::vector<Update> out;
 	if (auto u = sync()) out.push_back(std::move(*u));
 	const auto t0 = std::chrono::steady_clock::now();
-	admitVerified(SIZE_MAX);
 	JobResult r;
 	r.optimized = optimizeIfDue(true);
 	// Every keyframe at its final pose, however little it moved (a micrometre: not the rounding of
@@ -474,7 +466,7 @@ std::size_t LoopClosure::memoryBytes() const
 		b += sizeof(ScanPoints) + (n.scan->hits.capacity() + n.scan->freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
 	for (const auto& [pose, scan] : m_fixed)
 		b += (scan.hits.capacity() + scan.freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
-	for (const auto& [spec, map] : m_localMaps) b += map->memoryBytes() + spec.keyframes.capacity() * sizeof(spec.keyframes[0]);
+	for (const auto& [spec, map] : m_localMaps) b += map.get()->memoryBytes() + spec.keyframes.capacity() * sizeof(spec.keyframes[0]);
 	// The graph: a map node and an edge record each (std::map nodes hold ~4 pointers of overhead).
 	b += m_graph.nodeCount() * (sizeof(TPose2D) + sizeof(PoseGraph::NodeId) + 4 * sizeof(void*)) +
 		 m_graph.edgeCount() * sizeof(PoseGraphEdge);
@@ -488,7 +480,6 @@ LoopClosure::JobResult LoopClosure::runJob(std::size_t node, std::optional<Eigen
 	const std::size_t attempts = m_stats.attempts;
 	if (frontEndHessian) linkRevisit(node, *frontEndHessian);
 	detect(node);
-	admitVerified(node);
 	detectGlobal(node);
 	++m_sinceOptimization;
 	optimizeAndPatch(m_loopOpen, r);
@@ -556,7 +547,12 @@ void LoopClosure::detect(std::size_t node)
 	if (best[0] == SIZE_MAX) return;
 	m_lastAttempt = n.travel;
 	++m_stats.attempts;
-	// The visits are verified beside the worker, and the matches admitted kVerifyLag keyframes later.
+	// Matches of the last agreeWindow metres that were not accepted age out.
+	m_matches.erase(std::remove_if(m_matches.begin(), m_matches.end(),
+								   [&](const Match& m) {
+									   return !m.accepted && n.travel - m_nodes[m.to].travel > m_opts.agreeWindow;
+								   }),
+					m_matches.end());
 	std::vector<Visit> visits;
 	for (std::size_t c : best)
 	{
@@ -564,30 +560,10 @@ void LoopClosure::detect(std::size_t node)
 		const double back = n.travel - m_nodes[c].travel;
 		visits.push_back(visit(node, c, radius(back), angle(back)));
 	}
-	const auto policy = m_opts.background ? std::launch::async : std::launch::deferred;
-	m_attempts.push_back({node, std::async(policy, [this, v = std::move(visits)]() mutable { return verifyVisits(std::move(v)); })});
-}
-
-void LoopClosure::admitVerified(std::size_t node)
-{
-	while (!m_attempts.empty() && (node == SIZE_MAX || m_attempts.front().node + kVerifyLag <= node))
-	{
-		Attempt a = std::move(m_attempts.front());
-		m_attempts.pop_front();
-		Verified v = a.verified.get();
-		cacheLocalMaps(v.built);
-		// Matches of the last agreeWindow metres that were not accepted age out.
-		const double travel = m_nodes[a.node].travel;
-		m_matches.erase(std::remove_if(m_matches.begin(), m_matches.end(),
-									   [&](const Match& m) {
-										   return !m.accepted && travel - m_nodes[m.to].travel > m_opts.agreeWindow;
-									   }),
-						m_matches.end());
-		std::vector<Match> verified;
-		for (const auto& m : v.matches)
-			if (m) verified.push_back(*m);
-		admit(a.node, verified);
-	}
+	std::vector<Match> verified;
+	for (const auto& m : verifyVisits(visits))
+		if (m) verified.push_back(*m);
+	admit(node, verified);
 }
 
 void LoopClosure::admit(std::size_t node, std::vector<Match>& verified)
@@ -706,9 +682,7 @@ void LoopClosure::detectGlobal(std::size_t node)
 		// room or corridor that looks alike both ways, needs as many as one 20 m off). Not bounded by
 		// the doubt: that follows the net odometry across the loss, not the path driven meanwhile.
 		const double correction = distance(c.pose, x) + kDoubtLever * std::abs(mrpt::math::wrapToPi(c.pose.phi - x.phi));
-		Verified v = verifyVisits({visit(node, nearest, kGlobalWindow, kGlobalAngle, c.pose)});
-		cacheLocalMaps(v.built);
-		std::optional<Match> m = v.matches.front();
+		std::optional<Match> m = verifyVisits({visit(node, nearest, kGlobalWindow, kGlobalAngle, c.pose)}).front();
 		if (!m) continue;
 		m->window = std::max(m->window, correction);
 		verified.push_back(*m);
@@ -754,42 +728,44 @@ LoopClosure::Visit LoopClosure::visit(std::size_t node, std::size_t candidate, d
 		if (m_nodes[i].travel > to || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
 		v.local.keyframes.emplace_back(i, m_graph.pose(i));
 	}
+	// Most recently used first; two visits of one attempt that want the same map share it.
 	const auto hit = std::find_if(m_localMaps.begin(), m_localMaps.end(),
 								  [&](const auto& c) { return c.first == v.local; });
 	if (hit != m_localMaps.end())
 	{
 		v.map = hit->second;
-		std::rotate(m_localMaps.begin(), hit, hit + 1);	 // most recently used first
+		std::rotate(m_localMaps.begin(), hit, hit + 1);
+		return v;
 	}
-	else
-		for (const auto& [i, pose] : v.local.keyframes) v.localScans.push_back(m_nodes[i].scan);
+	v.build = std::make_shared<std::promise<std::shared_ptr<const OccupancyDistanceGridMap>>>();
+	v.map = v.build->get_future().share();
+	for (const auto& [i, pose] : v.local.keyframes) v.localScans.push_back(m_nodes[i].scan);
+	m_localMaps.insert(m_localMaps.begin(), {v.local, v.map});
+	if (m_localMaps.size() > kCachedLocalMaps) m_localMaps.pop_back();
 	return v;
 }
 
-LoopClosure::Verified LoopClosure::verifyVisits(std::vector<Visit> visits) const
+std::vector<std::optional<LoopClosure::Match>> LoopClosure::verifyVisits(const std::vector<Visit>& visits) const
 {
-	// The local maps not cached, each built once (two visits may share one), then every visit's match:
-	// each piece side by side with the others. A map is the same whichever thread builds it, and a
-	// match the same whenever it runs: the results do not depend on the threads.
-	Verified out;
-	std::vector<std::size_t> toBuild;
-	for (std::size_t k = 0; k < visits.size(); ++k)
-		if (!visits[k].map && std::none_of(toBuild.begin(), toBuild.end(), [&](std::size_t j) {
-				return visits[j].local == visits[k].local;
-			}))
-			toBuild.push_back(k);
-	concurrently(toBuild.size(), [&](std::size_t b) { visits[toBuild[b]].map = buildLocalMap(visits[toBuild[b]]); });
-	for (auto& v : visits)
-		for (std::size_t j : toBuild)
-			if (!v.map && visits[j].local == v.local) v.map = visits[j].map;
-	out.matches.resize(visits.size());
-	concurrently(visits.size(), [&](std::size_t k) { out.matches[k] = verifyOn(*visits[k].map, visits[k]); });
-	for (std::size_t j : toBuild)
-	{
-		visits[j].localScans.clear();
-		out.built.push_back(std::move(visits[j]));
-	}
-	return out;
+	// The local maps this attempt builds, then every visit's match, each piece side by side with the
+	// others. A map is the same whichever thread builds it, and a match the same whenever it runs:
+	// the results do not depend on the threads.
+	std::vector<const Visit*> builders;
+	for (const Visit& v : visits)
+		if (v.build) builders.push_back(&v);
+	concurrently(builders.size(), [&](std::size_t b) {
+		try
+		{
+			builders[b]->build->set_value(buildLocalMap(*builders[b]));
+		}
+		catch (...)
+		{
+			builders[b]->build->set_exception(std::current_exception());
+		}
+	});
+	std::vector<std::optional<Match>> matches(visits.size());
+	concurrently(visits.size(), [&](std::size_t k) { matches[k] = verifyOn(*visits[k].map.get(), visits[k]); });
+	return matches;
 }
 
 std::optional<LoopClosure::Match> LoopClosure::verifyOn(const OccupancyDistanceGridMap& local, const Visit& v) const
@@ -869,15 +845,6 @@ std::shared_ptr<const OccupancyDistanceGridMap> LoopClosure::buildLocalMap(const
 		scans.emplace_back(v.local.keyframes[k].second, v.localScans[k].get());
 	map->insertScans(scans);
 	return map;
-}
-
-void LoopClosure::cacheLocalMaps(const std::vector<Visit>& built)
-{
-	for (const Visit& v : built)
-	{
-		m_localMaps.insert(m_localMaps.begin(), {v.local, v.map});
-		if (m_localMaps.size() > kCachedLocalMaps) m_localMaps.pop_back();
-	}
 }
 
 TPose2D LoopClosure::disagreement(const Match& a, const Match& b) const

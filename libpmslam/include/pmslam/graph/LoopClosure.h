@@ -52,7 +52,10 @@
  *   of its distance layer, is not touched.
  * - Online: all of that runs on a worker thread, launched at one keyframe and joined at the
  *   next (the front-end keeps matching meanwhile against the map it has). Its result is used
- *   at a fixed point of the scan stream, so a run is repeatable whatever the timing.
+ *   at a fixed point of the scan stream, so a run is repeatable whatever the timing. Within a
+ *   job, pieces that do not depend on each other run side by side (the local maps of the two
+ *   visits and their matches, the two halves of a map patch): a log replayed faster than real
+ *   time has the front-end waiting, and its core idle, while the job runs.
  *
  * Frames: poses of the robot base in the map frame (m, rad); the first node is fixed. The
  * front-end's frame follows the graph: when the newest keyframe is re-inserted, the front-end
@@ -74,7 +77,6 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
-#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
@@ -297,34 +299,23 @@ class LoopClosure
 		mrpt::math::TPose2D centre, candidatePose;	// the windows' centre; the candidate's graph pose
 		double linWindow = 0, angWindow = 0;
 		LocalMapSpec local;
-		std::vector<std::shared_ptr<const ScanPoints>> localScans;	// of local.keyframes
-		std::shared_ptr<const OccupancyDistanceGridMap> map;  // from the cache; else built from the above
+		// The local map: from the cache, or to be built by this visit (`build` set) from local.keyframes
+		// at their poses and `localScans`.
+		std::shared_future<std::shared_ptr<const OccupancyDistanceGridMap>> map;
+		std::shared_ptr<std::promise<std::shared_ptr<const OccupancyDistanceGridMap>>> build;
+		std::vector<std::shared_ptr<const ScanPoints>> localScans;
 	};
 	// The keyframe `node`'s visit of `candidate` in the windows around `centre` (default: where the graph
-	// has the keyframe), its local map from the cache if there.
+	// has the keyframe). Its local map comes from the cache, or goes into it now, to be built by
+	// verifyVisits().
 	Visit visit(std::size_t node, std::size_t candidate, double linWindow, double angWindow,
 				const std::optional<mrpt::math::TPose2D>& centre = std::nullopt);
-	// The visits verified: the local maps that are not cached built, and each visit's match against its
-	// local map searched and checked, side by side. Reads only its argument and the options: it runs
-	// beside the worker.
-	struct Verified
-	{
-		std::vector<std::optional<Match>> matches;	// per visit
-		std::vector<Visit> built;  // the visits whose local maps were built (for the cache)
-	};
-	Verified verifyVisits(std::vector<Visit> visits) const;
+	// The visits' matches (one each): the local maps they are to build built, then each visit's match
+	// against its local map searched and checked, side by side. Reads only its argument and the
+	// options, so the pieces can run on threads of their own.
+	std::vector<std::optional<Match>> verifyVisits(const std::vector<Visit>& visits) const;
 	std::optional<Match> verifyOn(const OccupancyDistanceGridMap& local, const Visit& v) const;
 	std::shared_ptr<const OccupancyDistanceGridMap> buildLocalMap(const Visit& v) const;
-	// The visits' local maps that verifyVisits() built, into the cache (most recently used first).
-	void cacheLocalMaps(const std::vector<Visit>& built);
-	// A detection attempt being verified; its matches are admitted kVerifyLag keyframes later.
-	struct Attempt
-	{
-		std::size_t node;
-		std::future<Verified> verified;
-	};
-	// Admits the attempts launched at keyframe `node` - kVerifyLag or before (all: SIZE_MAX), in order.
-	void admitVerified(std::size_t node);
 	// The likelihood pyramids (fine, coarse) of the map of every keyframe before the loss, built once
 	// per loss.
 	const std::pair<LikelihoodPyramid, LikelihoodPyramid>& mapBeforeLoss();
@@ -371,8 +362,7 @@ class LoopClosure
 	std::unique_ptr<std::pair<LikelihoodPyramid, LikelihoodPyramid>> m_beforeLoss;
 	// Local maps verified against lately, newest first (the worker's only): consecutive attempts at one
 	// place verify against the same stretch of an earlier visit.
-	std::vector<std::pair<LocalMapSpec, std::shared_ptr<const OccupancyDistanceGridMap>>> m_localMaps;
-	std::deque<Attempt> m_attempts;	 // launched, not yet admitted (oldest first)
+	std::vector<std::pair<LocalMapSpec, std::shared_future<std::shared_ptr<const OccupancyDistanceGridMap>>>> m_localMaps;
 	std::vector<float> m_goodness;	// of the last tracked keyframes' matches (a ring)
 	std::size_t m_goodnessNext = 0;
 	bool m_handedOver = false;	// sync() just handed a new grid over: the front-end matched the old one
