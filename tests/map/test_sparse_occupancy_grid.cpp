@@ -155,6 +155,32 @@ TEST(OccupancyDistanceGridMap, MaterialisedViewAndDenseCopyHoldTheCells)
 	EXPECT_EQ(observedIn(m), m.cells().observedCells());
 }
 
+// The loop verification asks a local map, never materialised, whether a pose stands in an occupied or an
+// unexplored cell: the sparse accessors answer what the dense copy says, while MRPT's own getPos() reads the
+// empty view (0.5 everywhere) and so cannot be asked (it was, and the test "the robot stands in space the
+// earlier visit saw free" never fired).
+TEST(OccupancyDistanceGridMap, OccupiedAndUnexploredAnswerWhatTheDenseCopySays)
+{
+	const OccupancyDistanceGridMap m = roomMap();
+	const mrpt::maps::COccupancyGridMap2D dense = m.denseCopy();
+	std::size_t occupied = 0, unexplored = 0, wrong = 0, viewSaysOccupied = 0;
+	const double r = m.updateOptions().resolution;
+	for (double y = -4.5 + r / 2; y < 4.5; y += r)
+		for (double x = -5.5 + r / 2; x < 5.5; x += r)
+		{
+			const bool occ = m.isOccupied(x, y), unk = m.isUnexplored(x, y);
+			occupied += occ;
+			unexplored += unk;
+			const float p = dense.getPos(float(x), float(y));
+			wrong += occ != (p < 0.5f) || (unk && p != 0.5f);
+			viewSaysOccupied += m.getPos(float(x), float(y)) < 0.5f;
+		}
+	EXPECT_GT(occupied, 300u);
+	EXPECT_GT(unexplored, 300u);
+	EXPECT_EQ(wrong, 0u);
+	EXPECT_EQ(viewSaysOccupied, 0u);
+}
+
 TEST(OccupancyDistanceGridMap, DistanceLayerIsTheBruteForceDistanceToTheOccupiedCells)
 {
 	// Built scan by scan (incremental), and rebuilt in one pass (row by row): both the exact truncated

@@ -801,7 +801,7 @@ std::optional<LoopClosure::Match> LoopClosure::verifyOn(const OccupancyDistanceG
 	// place the local map never observed (inside a block, beyond its walls) is a look-alike fit to
 	// the part of the map there is, whatever its score.
 	if (local.isUnexplored(best.pose.x, best.pose.y) ||
-		local.getPos(static_cast<float>(best.pose.x), static_cast<float>(best.pose.y)) < 0.5f ||
+		local.isOccupied(best.pose.x, best.pose.y) ||
 		local.unexploredFraction(hits, best.pose) > m_opts.maxUnexploredFraction)
 		return std::nullopt;
 	// Where the earlier visit saw free space, a revisit's returns are only things that moved since

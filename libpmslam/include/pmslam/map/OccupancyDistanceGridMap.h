@@ -125,6 +125,8 @@ class OccupancyDistanceGridMap : public mrpt::maps::COccupancyGridMap2D
 
 	/** True where no scan has said anything yet (a cell at the prior). */
 	bool isUnexplored(double x, double y) const { return cellAt(x, y) == 0; }
+	/** True where the scans say occupied more than free (the cells the distance layer has as obstacles). */
+	bool isOccupied(double x, double y) const { return cellAt(x, y) < 0; }
 	/** The fraction of `points` (robot frame) that land in unexplored cells seen from `pose`. */
 	double unexploredFraction(const std::vector<mrpt::math::TPoint2Df>& points, const mrpt::math::TPose2D& pose) const;
 	/** The fraction of `points` (robot frame, seen from `pose`) that land in cells observed free, farther
