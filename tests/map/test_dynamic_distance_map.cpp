@@ -209,3 +209,32 @@ TEST(DynamicDistanceMap, StorageGrowsWithTouchedAreaOnly)
 	EXPECT_LE(y0, -40000);
 	EXPECT_GE(y1, 0);
 }
+
+// The correlative search reads lattice rows through forRowSamples(), a block look-up per block: the
+// samples it gives are cellDistance() of the same cells, in order, across block edges, negative cells
+// and blocks never allocated (the far value).
+TEST(DynamicDistanceMap, RowSamplesAreTheCellDistances)
+{
+	DynamicDistanceMap m(0.05, 0.5);
+	std::mt19937 rng(3);
+	std::uniform_int_distribution<int> cell(-90, 90);
+	for (int k = 0; k < 60; ++k) m.addObstacle(cell(rng), cell(rng));
+	m.update();
+	std::size_t compared = 0, wrong = 0, far = 0;
+	for (int step = 1; step <= 5; ++step)
+		for (int k = 0; k < 200; ++k)
+		{
+			const int cx0 = 2 * cell(rng), cy = 2 * cell(rng), count = 1 + k % 90;
+			int next = 0;
+			m.forRowSamples(cx0, cy, step, count, [&](int i, float d) {
+				wrong += i != next++ || d != m.cellDistance(cx0 + i * step, cy);
+				far += d == float(m.maxDistance());
+				++compared;
+			});
+			wrong += next != count;
+		}
+	EXPECT_EQ(wrong, 0u);
+	EXPECT_GT(compared, 40000u);
+	EXPECT_GT(far, 1000u);
+	EXPECT_LT(far, compared);
+}

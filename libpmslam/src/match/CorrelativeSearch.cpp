@@ -67,10 +67,8 @@ std::vector<CorrelativeSearch::Candidate> CorrelativeSearch::search(const Dynami
 			for (int ty = -nT; ty <= nT; ++ty)
 			{
 				float* row = &acc[std::size_t(ty + nT) * side];
-				const int cy = pcy[k] + ty * step;
-				int cx = pcx[k] - nT * step;
-				for (int tx = 0; tx < side; ++tx, cx += step)
-					row[tx] += lut[int(map.cellDistanceInline(cx, cy) * lutScale + 0.5f)];
+				map.forRowSamples(pcx[k] - nT * step, pcy[k] + ty * step, step, side,
+								  [&](int tx, float d) { row[tx] += lut[int(d * lutScale + 0.5f)]; });
 			}
 		// Local maxima of this rotation's slice.
 		for (int ty = 0; ty < side; ++ty)

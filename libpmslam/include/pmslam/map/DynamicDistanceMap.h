@@ -63,6 +63,21 @@ class DynamicDistanceMap
 	float cellDistance(int cx, int cy) const;
 	/** The same, inline (the correlative search reads millions of cells). */
 	float cellDistanceInline(int cx, int cy) const { return blockAt(cx, cy)->dist[inBlock(cx, cy)]; }
+	/** f(i, cellDistance(cx0 + i·step, cy)) for i = 0 .. count-1 (step ≥ 1), in order: a row of a
+	 * correlative search's lattice, the block looked up once per block rather than once per cell. */
+	template <class F>
+	void forRowSamples(int cx0, int cy, int step, int count, F&& f) const
+	{
+		const int rowOffset = (cy & (kBlockSide - 1)) << kBlockShift;
+		int i = 0, cx = cx0;
+		while (i < count)
+		{
+			const int bx = blockOf(cx);
+			const float* d = blockAt(cx, cy)->dist + rowOffset;
+			// The cells of this row that fall in block bx.
+			for (; i < count && blockOf(cx) == bx; ++i, cx += step) f(i, d[cx & (kBlockSide - 1)]);
+		}
+	}
 
 	/** Distance (metres) at a world point by bilinear interpolation of the 4
 	 * surrounding cell-centre samples, with its analytic gradient (dimensionless,
