@@ -71,7 +71,6 @@ std::array<BlockMask, 2> splitWestEast(const BlockMask& all)
 	return halves;
 }
 
-
 // A whole-map search (D46): the distinct places taken (within 0.8 of the best's score), the window each is
 // verified in (the coarse-to-fine search's places are exact on its lattice; PM refines within a cell or two),
 // and how near a keyframe from before the loss must be to a place for its visit's local map to hold it.
@@ -466,7 +465,7 @@ std::size_t LoopClosure::memoryBytes() const
 		b += sizeof(ScanPoints) + (n.scan->hits.capacity() + n.scan->freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
 	for (const auto& [pose, scan] : m_fixed)
 		b += (scan.hits.capacity() + scan.freeEnds.capacity()) * sizeof(mrpt::math::TPoint2Df);
-	for (const auto& [spec, map] : m_localMaps) b += map.get()->memoryBytes() + spec.keyframes.capacity() * sizeof(spec.keyframes[0]);
+	for (const auto& [spec, map] : m_localMaps) b += map->memoryBytes() + spec.keyframes.capacity() * sizeof(spec.keyframes[0]);
 	// The graph: a map node and an edge record each (std::map nodes hold ~4 pointers of overhead).
 	b += m_graph.nodeCount() * (sizeof(TPose2D) + sizeof(PoseGraph::NodeId) + 4 * sizeof(void*)) +
 		 m_graph.edgeCount() * sizeof(PoseGraphEdge);
@@ -699,10 +698,7 @@ LoopClosure::Visit LoopClosure::visit(std::size_t node, std::size_t candidate, d
 	Visit v;
 	v.node = node;
 	v.candidate = candidate;
-	v.scan = n.scan;
-	v.sigma = n.sigma;
 	v.centre = centre ? *centre : m_graph.pose(node);
-	v.candidatePose = m_graph.pose(candidate);
 	v.linWindow = linWindow;
 	v.angWindow = angWindow;
 	// The candidate's neighbourhood, none of it recent: localMapExtent metres of path on either side,
@@ -728,52 +724,42 @@ LoopClosure::Visit LoopClosure::visit(std::size_t node, std::size_t candidate, d
 		if (m_nodes[i].travel > to || n.travel - m_nodes[i].travel < m_opts.minTravel) break;
 		v.local.keyframes.emplace_back(i, m_graph.pose(i));
 	}
-	// Most recently used first; two visits of one attempt that want the same map share it.
 	const auto hit = std::find_if(m_localMaps.begin(), m_localMaps.end(),
 								  [&](const auto& c) { return c.first == v.local; });
 	if (hit != m_localMaps.end())
 	{
 		v.map = hit->second;
-		std::rotate(m_localMaps.begin(), hit, hit + 1);
-		return v;
+		std::rotate(m_localMaps.begin(), hit, hit + 1);	 // most recently used first
 	}
-	v.build = std::make_shared<std::promise<std::shared_ptr<const OccupancyDistanceGridMap>>>();
-	v.map = v.build->get_future().share();
-	for (const auto& [i, pose] : v.local.keyframes) v.localScans.push_back(m_nodes[i].scan);
-	m_localMaps.insert(m_localMaps.begin(), {v.local, v.map});
-	if (m_localMaps.size() > kCachedLocalMaps) m_localMaps.pop_back();
 	return v;
 }
 
-std::vector<std::optional<LoopClosure::Match>> LoopClosure::verifyVisits(const std::vector<Visit>& visits) const
+std::vector<std::optional<LoopClosure::Match>> LoopClosure::verifyVisits(std::vector<Visit> visits)
 {
-	// The local maps this attempt builds, then every visit's match, each piece side by side with the
-	// others. A map is the same whichever thread builds it, and a match the same whenever it runs:
-	// the results do not depend on the threads.
-	std::vector<const Visit*> builders;
-	for (const Visit& v : visits)
-		if (v.build) builders.push_back(&v);
-	concurrently(builders.size(), [&](std::size_t b) {
-		try
-		{
-			builders[b]->build->set_value(buildLocalMap(*builders[b]));
-		}
-		catch (...)
-		{
-			builders[b]->build->set_exception(std::current_exception());
-		}
-	});
+	// The local maps not cached, then every visit's match, each piece side by side with the others. A
+	// map is the same whichever thread builds it, and a match the same whenever it runs: the results
+	// do not depend on the threads.
+	std::vector<Visit*> toBuild;
+	for (Visit& v : visits)
+		if (!v.map) toBuild.push_back(&v);
+	concurrently(toBuild.size(), [&](std::size_t b) { toBuild[b]->map = buildLocalMap(toBuild[b]->local); });
+	for (const Visit* v : toBuild)
+	{
+		m_localMaps.insert(m_localMaps.begin(), {v->local, v->map});
+		if (m_localMaps.size() > kCachedLocalMaps) m_localMaps.pop_back();
+	}
 	std::vector<std::optional<Match>> matches(visits.size());
-	concurrently(visits.size(), [&](std::size_t k) { matches[k] = verifyOn(*visits[k].map.get(), visits[k]); });
+	concurrently(visits.size(), [&](std::size_t k) { matches[k] = verifyOn(visits[k]); });
 	return matches;
 }
 
-std::optional<LoopClosure::Match> LoopClosure::verifyOn(const OccupancyDistanceGridMap& local, const Visit& v) const
+std::optional<LoopClosure::Match> LoopClosure::verifyOn(const Visit& v) const
 {
-	const ScanPoints& scan = *v.scan;
+	const Node& n = m_nodes[v.node];
+	const OccupancyDistanceGridMap& local = *v.map;
 	const double linWindow = v.linWindow, angWindow = v.angWindow;
 	const DynamicDistanceMap& dm = local.distanceMap();
-	const std::vector<mrpt::math::TPoint2Df>& hits = scan.hits;
+	const std::vector<mrpt::math::TPoint2Df>& hits = n.scan->hits;
 	const TPose2D& x = v.centre;
 	struct Refined
 	{
@@ -784,7 +770,7 @@ std::optional<LoopClosure::Match> LoopClosure::verifyOn(const OccupancyDistanceG
 	// A wide window holds more look-alike peaks: more of them refined, for the ambiguity test below.
 	const std::size_t peaks = linWindow > kWideWindow ? 8 : 4;
 	PerfectMatchMatcher matcher = m_matcher;
-	if (std::isfinite(v.sigma)) matcher.options.sigma = v.sigma;  // D52: a noisier lidar's own σ
+	if (std::isfinite(n.sigma)) matcher.options.sigma = n.sigma;  // D52: a noisier lidar's own σ
 	for (const auto& s : CorrelativeSearch::coarseToFine(dm, hits, x, linWindow, angWindow, peaks))
 	{
 		Refined r;
@@ -820,7 +806,7 @@ std::optional<LoopClosure::Match> LoopClosure::verifyOn(const OccupancyDistanceG
 	Match m;
 	m.from = v.candidate;
 	m.to = v.node;
-	const TPose2D& xc = v.candidatePose;
+	const TPose2D xc = m_graph.pose(v.candidate);
 	m.z = relativePose(xc, best.pose);
 	m.information = toEdgeFrame(best.info.hessian / m_opts.informationScale, xc.phi) + kLoopFloor;
 	m.window = linWindow;
@@ -835,14 +821,13 @@ bool LoopClosure::LocalMapSpec::operator==(const LocalMapSpec& o) const
 		   });
 }
 
-std::shared_ptr<const OccupancyDistanceGridMap> LoopClosure::buildLocalMap(const Visit& v) const
+std::shared_ptr<const OccupancyDistanceGridMap> LoopClosure::buildLocalMap(const LocalMapSpec& spec) const
 {
 	OccupancyGridUpdateOptions opts = m_gridOpts;
-	opts.maxDistance = v.local.maxDistance;
+	opts.maxDistance = spec.maxDistance;
 	auto map = std::make_shared<OccupancyDistanceGridMap>(opts);
 	std::vector<std::pair<TPose2D, const ScanPoints*>> scans;
-	for (std::size_t k = 0; k < v.local.keyframes.size(); ++k)
-		scans.emplace_back(v.local.keyframes[k].second, v.localScans[k].get());
+	for (const auto& [i, pose] : spec.keyframes) scans.emplace_back(pose, m_nodes[i].scan.get());
 	map->insertScans(scans);
 	return map;
 }

@@ -282,40 +282,34 @@ class LoopClosure
 	void detectGlobal(std::size_t node);
 	// The look-alike test, the agreement of recent matches, and the accepted ones into the graph.
 	void admit(std::size_t node, std::vector<Match>& verified);
-	// What verifying a keyframe against one visit needs, copied (the worker goes on changing the graph
-	// and the keyframes while it runs): the keyframe, the visit's keyframe (`candidate`) and the local
-	// map of its neighbourhood (its keyframes' ids, poses and scans), the windows and their centre.
+	// What a local map is built from: keyframes (id, and the graph pose it is built at) and the reach of
+	// its distance layer. Equal specs give equal maps.
 	struct LocalMapSpec
 	{
-		std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> keyframes;	 // id and pose to build it from
+		std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> keyframes;
 		double maxDistance = 0;
-		bool operator==(const LocalMapSpec& o) const;  // the same map (the keyframes not moved since)
+		bool operator==(const LocalMapSpec& o) const;
 	};
+	// A keyframe (`node`) to verify against the visit of keyframe `candidate`: the windows and their
+	// centre, and the local map of the candidate's neighbourhood (null until built).
 	struct Visit
 	{
 		std::size_t node = 0, candidate = 0;
-		std::shared_ptr<const ScanPoints> scan;	 // the keyframe's
-		double sigma = std::nan("");
-		mrpt::math::TPose2D centre, candidatePose;	// the windows' centre; the candidate's graph pose
+		mrpt::math::TPose2D centre;
 		double linWindow = 0, angWindow = 0;
 		LocalMapSpec local;
-		// The local map: from the cache, or to be built by this visit (`build` set) from local.keyframes
-		// at their poses and `localScans`.
-		std::shared_future<std::shared_ptr<const OccupancyDistanceGridMap>> map;
-		std::shared_ptr<std::promise<std::shared_ptr<const OccupancyDistanceGridMap>>> build;
-		std::vector<std::shared_ptr<const ScanPoints>> localScans;
+		std::shared_ptr<const OccupancyDistanceGridMap> map;
 	};
 	// The keyframe `node`'s visit of `candidate` in the windows around `centre` (default: where the graph
-	// has the keyframe). Its local map comes from the cache, or goes into it now, to be built by
-	// verifyVisits().
+	// has the keyframe), its local map from the cache if there.
 	Visit visit(std::size_t node, std::size_t candidate, double linWindow, double angWindow,
 				const std::optional<mrpt::math::TPose2D>& centre = std::nullopt);
-	// The visits' matches (one each): the local maps they are to build built, then each visit's match
-	// against its local map searched and checked, side by side. Reads only its argument and the
-	// options, so the pieces can run on threads of their own.
-	std::vector<std::optional<Match>> verifyVisits(const std::vector<Visit>& visits) const;
-	std::optional<Match> verifyOn(const OccupancyDistanceGridMap& local, const Visit& v) const;
-	std::shared_ptr<const OccupancyDistanceGridMap> buildLocalMap(const Visit& v) const;
+	// The visits' matches (one each): the local maps not cached built (and cached), then each visit's
+	// match against its local map searched and checked. Both steps run their pieces side by side: they
+	// only read the keyframes and the graph, which nothing changes during a job.
+	std::vector<std::optional<Match>> verifyVisits(std::vector<Visit> visits);
+	std::optional<Match> verifyOn(const Visit& v) const;
+	std::shared_ptr<const OccupancyDistanceGridMap> buildLocalMap(const LocalMapSpec& spec) const;
 	// The likelihood pyramids (fine, coarse) of the map of every keyframe before the loss, built once
 	// per loss.
 	const std::pair<LikelihoodPyramid, LikelihoodPyramid>& mapBeforeLoss();
@@ -362,7 +356,7 @@ class LoopClosure
 	std::unique_ptr<std::pair<LikelihoodPyramid, LikelihoodPyramid>> m_beforeLoss;
 	// Local maps verified against lately, newest first (the worker's only): consecutive attempts at one
 	// place verify against the same stretch of an earlier visit.
-	std::vector<std::pair<LocalMapSpec, std::shared_future<std::shared_ptr<const OccupancyDistanceGridMap>>>> m_localMaps;
+	std::vector<std::pair<LocalMapSpec, std::shared_ptr<const OccupancyDistanceGridMap>>> m_localMaps;
 	std::vector<float> m_goodness;	// of the last tracked keyframes' matches (a ring)
 	std::size_t m_goodnessNext = 0;
 	bool m_handedOver = false;	// sync() just handed a new grid over: the front-end matched the old one

@@ -61,10 +61,9 @@ class DynamicDistanceMap
 	int squaredDistanceCells(int cx, int cy) const;
 	/** Distance in metres from the centre of cell (cx, cy), truncated at maxDistance(). */
 	float cellDistance(int cx, int cy) const;
-	/** The same, inline (the correlative search reads millions of cells). */
-	float cellDistanceInline(int cx, int cy) const { return blockAt(cx, cy)->dist[inBlock(cx, cy)]; }
 	/** f(i, cellDistance(cx0 + i·step, cy)) for i = 0 .. count-1 (step ≥ 1), in order: a row of a
-	 * correlative search's lattice, the block looked up once per block rather than once per cell. */
+	 * correlative search's lattice (millions of cells per search), inline, the block looked up once
+	 * per block rather than once per cell. */
 	template <class F>
 	void forRowSamples(int cx0, int cy, int step, int count, F&& f) const
 	{
