@@ -7,6 +7,7 @@
 #include <malloc.h>
 #include <pmslam/match/BranchAndBoundSearch.h>
 #include <pmslam/match/CorrelativeSearch.h>
+#include <pmslam/sensor/SeenThrough.h>
 #include <pmslam/util/Concurrently.h>
 
 #include <algorithm>
@@ -54,6 +55,10 @@ constexpr double kWideWindow = 4.0;
 // the last kCachedLocalMaps (two visits are verified per attempt) are kept.
 constexpr double kLocalMapChunk = 4.0, kReachStep = 0.25;
 constexpr std::size_t kCachedLocalMaps = 4;
+// The keyframes that say which returns of a keyframe moved (returnsThatStayed): the last few before
+// it, taken within seconds and metres of it, where their relative poses are the front-end's own.
+constexpr std::size_t kSeenThroughKeyframes = 3;
+constexpr double kSeenThroughSeconds = 10.0, kSeenThroughDistance = 3.0;
 
 // The blocks of `all` (frozen) west of the middle one's column, and the others (both frozen).
 std::array<BlockMask, 2> splitWestEast(const BlockMask& all)
@@ -793,7 +798,12 @@ std::optional<LoopClosure::Match> LoopClosure::verifyOn(const Visit& v) const
 	// Where the earlier visit saw free space, a revisit's returns are only things that moved since
 	// (a person: intel's worst true loop has 18 % of them there, most under 2 %). A look-alike place
 	// with its features elsewhere (a twin corridor, pilasters a metre off) puts 9-17 % of the scan there.
-	if (local.inFreeSpaceFraction(hits, best.pose, 0.15) > m_opts.maxInFreeSpace) return std::nullopt;
+	// Returns the keyframes just before saw through moved between their scans (a passer-by, clutter):
+	// they say nothing about the place, and are not counted (D27).
+	const std::vector<mrpt::math::TPoint2Df> stayed = returnsThatStayed(v.node);
+	if (local.inFreeSpaceFraction(stayed, best.pose, 0.15) * double(stayed.size()) >
+		m_opts.maxInFreeSpace * double(hits.size()))
+		return std::nullopt;
 	// Another pose, clearly distinct, that explains the scan nearly as well: a corridor or a
 	// repetitive place, where the best score does not say which pose is right.
 	for (std::size_t i = 1; i < refined.size(); ++i)
@@ -811,6 +821,27 @@ std::optional<LoopClosure::Match> LoopClosure::verifyOn(const Visit& v) const
 	m.information = toEdgeFrame(best.info.hessian / m_opts.informationScale, xc.phi) + kLoopFloor;
 	m.window = linWindow;
 	return m;
+}
+
+std::vector<mrpt::math::TPoint2Df> LoopClosure::returnsThatStayed(std::size_t node) const
+{
+	// The keyframes of the last moments before this one, close by: what they saw through in this
+	// scan was not there when they looked.
+	const Node& n = m_nodes[node];
+	const TPose2D x = m_graph.pose(node);
+	std::vector<std::pair<TPose2D, const ScanPoints*>> before;
+	for (std::size_t m = node; m-- > 0 && before.size() < kSeenThroughKeyframes;)
+	{
+		const TPose2D z = relativePose(x, m_graph.pose(m));
+		if (std::abs(n.timestamp - m_nodes[m].timestamp) > kSeenThroughSeconds || std::hypot(z.x, z.y) > kSeenThroughDistance)
+			break;
+		before.emplace_back(z, m_nodes[m].scan.get());
+	}
+	const std::vector<bool> moved = seenThrough(*n.scan, before);
+	std::vector<mrpt::math::TPoint2Df> stayed;
+	for (std::size_t k = 0; k < moved.size(); ++k)
+		if (!moved[k]) stayed.push_back(n.scan->hits[k]);
+	return stayed;
 }
 
 bool LoopClosure::LocalMapSpec::operator==(const LocalMapSpec& o) const

@@ -57,7 +57,8 @@ std::vector<config::Key<L>> makeKeys()
 						  "At most this share of the scan may land where the local map saw nothing (D27).",
 						  [](auto& o) -> auto& { return o.maxUnexploredFraction; }),
 		config::number<L>("maxInFreeSpace", "", fraction, Level::Expert,
-						  "At most this share of the scan may land where the local map saw free space (D27).",
+						  "At most this share of the scan may land where the local map saw free space, not counting returns the "
+						  "keyframes just before saw through (D27).",
 						  [](auto& o) -> auto& { return o.maxInFreeSpace; }),
 		config::count<L>("agreeingMatches", "", closed(1, 20), Level::Expert,
 						 "Verified matches that must agree before a loop is accepted (more in windows over 4 m) (D28).",

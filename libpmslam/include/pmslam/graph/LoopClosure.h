@@ -24,7 +24,8 @@
  *   unambiguous (no distinct pose within ambiguityMargin of its score: a plain or periodic
  *   corridor), put the robot where the local map saw free space and the scan where it saw
  *   something (maxUnexploredFraction: a look-alike fit to part of the map fails this), put
- *   few returns where it saw free space (maxInFreeSpace: a twin corridor's features elsewhere), and agree with agreeingMatches - 1 other verified matches (one more per doubling of the window beyond 4 m) of the last
+ *   few returns where it saw free space (maxInFreeSpace: a twin corridor's features elsewhere; returns
+ *   the keyframes just before saw through, things that moved, not counted: SeenThrough.h), and agree with agreeingMatches - 1 other verified matches (one more per doubling of the window beyond 4 m) of the last
  *   agreeWindow metres (the two loops imply the same relative pose between their keyframes as
  *   the graph does). In the optimisation, loop edges failing a chi-square test are disabled
  *   (PoseGraph: a hard-redescending robust kernel, re-admitted when they fit again).
@@ -310,6 +311,8 @@ class LoopClosure
 	std::vector<std::optional<Match>> verifyVisits(std::vector<Visit> visits);
 	std::optional<Match> verifyOn(const Visit& v) const;
 	std::shared_ptr<const OccupancyDistanceGridMap> buildLocalMap(const LocalMapSpec& spec) const;
+	// The keyframe's returns but those the keyframes just before it saw through (things that moved).
+	std::vector<mrpt::math::TPoint2Df> returnsThatStayed(std::size_t node) const;
 	// The likelihood pyramids (fine, coarse) of the map of every keyframe before the loss, built once
 	// per loss.
 	const std::pair<LikelihoodPyramid, LikelihoodPyramid>& mapBeforeLoss();
