@@ -9,7 +9,8 @@
 
 namespace pmslam_app
 {
-SlamRun::SlamRun(const pmslam::SlamConfig& cfg) : m_odometry(cfg.odometrySource), m_startOdometry(cfg.odometrySource)
+SlamRun::SlamRun(const pmslam::SlamConfig& cfg)
+	: m_odometry(cfg.odometrySource), m_startOdometry(cfg.odometrySource), m_startTrackerOdometry(cfg.odometrySource)
 {
 	m_slam.PM_options = cfg.mapping;
 	m_slam.PM_params = cfg.matcher;
@@ -39,14 +40,33 @@ void SlamRun::findStart(const mrpt::maps::COccupancyGridMap2D& map)
 	m_startMap = &map;
 }
 
+void SlamRun::findStartAlong(const mrpt::maps::COccupancyGridMap2D& map)
+{
+	pmslam::GlobalLocalizerOptions o;
+	o.searchAlong = true;
+	m_start = std::make_unique<pmslam::GlobalLocalizer>(map, m_slam.PM_params, m_slam.PM_options.grid.scan, o);
+	m_startMap = &map;
+	m_startTracker = std::make_unique<pmslam::PerfectMatchSlam>();
+	m_startTracker->PM_options = m_slam.PM_options;
+	m_startTracker->PM_options.keepSimpleMap = false;
+	m_startTracker->PM_params = m_slam.PM_params;
+	m_startTracker->LC_options.enabled = false;
+	m_startTracker->initialize();
+}
+
 bool SlamRun::offerForStart(const pmslam::LogEvent& ev)
 {
 	if (ev.kind == pmslam::LogEvent::Kind::Odometry)
 	{
 		m_startOdometry.takeReading(ev);
+		if (m_startTracker && m_startTrackerOdometry.takeReading(ev))
+			m_startTracker->processOdometry(ev.odometry, ev.timestamp);
 		return false;
 	}
-	if (m_start->addScan(*ev.scan, m_startOdometry.forScan(ev)) != pmslam::GlobalLocalizer::State::Found) return false;
+	auto odometry = m_startOdometry.forScan(ev);
+	if (m_startTracker) odometry = m_startTracker->processScan(*ev.scan, m_startTrackerOdometry.scanOdometry(ev)).pose;
+	if (m_start->addScan(*ev.scan, odometry) != pmslam::GlobalLocalizer::State::Found) return false;
+	m_startTracker.reset();
 	if (m_session)
 		startSession(m_start->best()->origin);
 	else
@@ -60,7 +80,7 @@ void SlamRun::continueSession(const pmslam::Session& session, const std::optiona
 	if (hint)
 		startSession(*hint);
 	else
-		findStart(session.grid);
+		findStartAlong(session.grid);
 }
 
 void SlamRun::startSession(const mrpt::math::TPose2D& start)

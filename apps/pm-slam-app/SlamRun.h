@@ -32,8 +32,11 @@ class SlamRun
 	/** --localize without --initial-pose: the start is searched on `map` (GlobalLocalizer) from the
 	 * first scans, which offerForStart() takes until it is found. */
 	void findStart(const mrpt::maps::COccupancyGridMap2D& map);
+	/** The same for --continue: the log may begin off the map and come onto it later (a wing mapped
+	 * apart, a second robot's session), so it is searched along (GlobalLocalizerOptions::searchAlong). */
+	void findStartAlong(const mrpt::maps::COccupancyGridMap2D& map);
 	/** --continue: maps on from `session`'s map (never changed), starting at `hint` or, without one, where a
-	 * whole-map search on it finds the first scans (as findStart()). `session` must outlive the run. */
+	 * whole-map search on it finds the log (findStartAlong()). `session` must outlive the run. */
 	void continueSession(const pmslam::Session& session, const std::optional<mrpt::math::TPose2D>& hint);
 	/** The session continued, if any. */
 	const pmslam::Session* session() const { return m_session; }
@@ -90,6 +93,11 @@ class SlamRun
 	std::unique_ptr<pmslam::GlobalLocalizer> m_start;
 	const mrpt::maps::COccupancyGridMap2D* m_startMap = nullptr;
 	pmslam::OdometrySelector m_startOdometry;  // its own: the events are offered again to m_odometry after
+	// --continue without a start: the log may begin off the map, so the search goes along it, and places
+	// found far into it are carried back to its first scan by a front-end of its own (the scans' motion,
+	// not the wheels' drift).
+	std::unique_ptr<pmslam::PerfectMatchSlam> m_startTracker;
+	pmslam::OdometrySelector m_startTrackerOdometry;
 	const mrpt::maps::COccupancyGridMap2D* m_prior = nullptr;  // the fixed map, while localising
 	bool m_checkStart = false;	// the next scan starts a whole-map search that checks the given start
 	const pmslam::Session* m_session = nullptr;	 // the session continued

@@ -145,8 +145,8 @@ bool sayStart(const pmslam::GlobalLocalizer& g, const Options& o)
 	if (o.continuing() && g.state() != pmslam::GlobalLocalizer::State::Found)
 	{
 		std::snprintf(line, sizeof line,
-					  "--continue: no place on %s's map explains the log's first scans (%zu scans, %zu whole-map "
-					  "searches): the log must start where the map was made; nothing written (exit status 3)",
+					  "--continue: no place on %s's map explains any stretch of the log (%zu scans, %zu whole-map "
+					  "searches along it): the log and the map do not overlap; nothing written (exit status 3)",
 					  o.continueFrom.c_str(), g.scansUsed(), g.searches());
 		say(line);
 		return false;

@@ -13,6 +13,11 @@ namespace
 {
 using mrpt::math::TPose2D;
 
+// m: a return this close to an obstacle of the map is on it, within the map's and the pose's error.
+constexpr double kFreeSpaceMargin = 0.15;
+// searchAlong: the scans a place is checked against (the last ones, every kHistoryPointStride-th point).
+constexpr std::size_t kHistoryScans = 300, kHistoryPointStride = 4;
+
 TPose2D compose(const TPose2D& a, const TPose2D& b) { return (mrpt::poses::CPose2D(a) + mrpt::poses::CPose2D(b)).asTPose(); }
 
 /** b⁻¹ ⊕ a: the motion from b to a. */
@@ -35,6 +40,11 @@ RivalsOptions rivalsFor(const GlobalLocalizerOptions& o)
 {
 	RivalsOptions r = o.rivals;
 	if (o.coarseToFine) r.minViews = std::max<std::size_t>(r.minViews, 2);
+	if (o.searchAlong)
+	{
+		r.minViews = std::max(r.minViews, o.alongMinViews);
+		r.minLeaderGoodness = std::max(r.minLeaderGoodness, o.alongLeaderGoodness);
+	}
 	return r;
 }
 }  // namespace
@@ -54,6 +64,44 @@ GlobalLocalizer::GlobalLocalizer(const mrpt::maps::COccupancyGridMap2D& map,
 		LikelihoodPyramid::fromGrid(map, matcher.maxDistance, matcher.occupiedThreshold));
 	if (m_opts.coarseToFine)
 		m_coarse = std::make_unique<LikelihoodPyramid>(BranchAndBoundSearch(*m_pyramid).coarsePyramid());
+	if (m_opts.searchAlong)
+	{
+		// Observed free: clearly above the unknown 0.5 (MRPT's cell value is the probability of free
+		// space; one observation of free space takes a cell to about 0.6).
+		m_freeX0 = map.getXMin();
+		m_freeY0 = map.getYMin();
+		m_freeRes = r;
+		m_freeW = int(map.getSizeX());
+		m_freeH = int(map.getSizeY());
+		m_observed.resize(std::size_t(m_freeW) * std::size_t(m_freeH));
+		for (int y = 0; y < m_freeH; ++y)
+			for (int x = 0; x < m_freeW; ++x)
+			{
+				const float p = map.getCell(x, y);
+				m_observed[std::size_t(y) * std::size_t(m_freeW) + std::size_t(x)] =
+					p > 0.55f ? Observed::Free : p < 0.45f ? Observed::Occupied : Observed::Unknown;
+			}
+	}
+}
+
+std::pair<std::size_t, std::size_t> GlobalLocalizer::inFreeSpace(const std::vector<mrpt::math::TPoint2Df>& points,
+																   const TPose2D& pose) const
+{
+	std::size_t inFree = 0, known = 0;
+	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
+	for (const auto& p : points)
+	{
+		const double wx = pose.x + c * p.x - s * p.y, wy = pose.y + s * p.x + c * p.y;
+		const int cx = int(std::floor((wx - m_freeX0) / m_freeRes)), cy = int(std::floor((wy - m_freeY0) / m_freeRes));
+		if (cx < 0 || cy < 0 || cx >= m_freeW || cy >= m_freeH) continue;
+		const Observed o = m_observed[std::size_t(cy) * std::size_t(m_freeW) + std::size_t(cx)];
+		if (o == Observed::Unknown) continue;
+		++known;
+		const double dx = wx - m_shift.x, dy = wy - m_shift.y;	// the distance layer's frame
+		const float clearance = m_distance.cellDistance(m_distance.worldToCell(dx), m_distance.worldToCell(dy));
+		if (o == Observed::Free && clearance > kFreeSpaceMargin) ++inFree;
+	}
+	return {inFree, known};
 }
 
 GlobalLocalizer::State GlobalLocalizer::addScan(const mrpt::obs::CObservation2DRangeScan& scan,
@@ -71,13 +119,57 @@ GlobalLocalizer::State GlobalLocalizer::addScan(const mrpt::obs::CObservation2DR
 			odometry && m_matchedOdometry ? between(*odometry, *m_matchedOdometry) : TPose2D(0, 0, 0);
 		if (odometry) m_matchedOdometry = odometry;
 		if (!m_rivals.empty()) m_rivals.follow(m_matcher, m_distance, points, motion, m_shift);
-		if (m_rivals.empty()) searchAnew(points);  // at the start, or every place has been dropped
-		if (m_rivals.decide()) m_state = State::Found;
+		// At the start, or every place has been dropped.
+		if (m_rivals.empty() && searchDue(odometry))
+		{
+			searchAnew(points);
+			m_searchedOdometry = odometry;
+		}
+		if (m_opts.searchAlong) remember(points, odometry);
+		if (m_rivals.decide() && (!m_opts.searchAlong || historyInFreeSpace(m_rivals.leader().pose, odometry) <=
+															  m_opts.alongMaxInFreeSpace))
+			m_state = State::Found;
 	}
-	if (m_state == State::Searching &&
-		(views() >= m_opts.maxViews || (m_rivals.empty() && m_searches >= m_opts.maxSearches)))
+	if (m_state != State::Searching) return m_state;
+	if (m_opts.searchAlong)
+	{
+		if (views() >= m_opts.maxViews) m_rivals.clear();  // let go; searched again further on
+	}
+	else if (views() >= m_opts.maxViews || (m_rivals.empty() && m_searches >= m_opts.maxSearches))
 		m_state = State::Undecided;
 	return m_state;
+}
+
+void GlobalLocalizer::remember(const std::vector<mrpt::math::TPoint2Df>& points, const std::optional<TPose2D>& odometry)
+{
+	if (!odometry) return;
+	std::vector<mrpt::math::TPoint2Df> some;
+	for (std::size_t k = 0; k < points.size(); k += kHistoryPointStride) some.push_back(points[k]);
+	m_history.emplace_back(*odometry, std::move(some));
+	if (m_history.size() > kHistoryScans) m_history.pop_front();
+}
+
+double GlobalLocalizer::historyInFreeSpace(const TPose2D& pose, const std::optional<TPose2D>& odometry) const
+{
+	// Each remembered scan placed as the odometry has it relative to the place's pose now; of all their
+	// returns that land where the map observed something, the share in its free space (returns off
+	// the map say nothing: the robot may have come from ground the map does not hold).
+	if (!odometry) return 0;
+	std::size_t inFree = 0, known = 0;
+	for (const auto& [at, points] : m_history)
+	{
+		const auto [f, k] = inFreeSpace(points, compose(pose, between(at, *odometry)));
+		inFree += f;
+		known += k;
+	}
+	return known ? double(inFree) / double(known) : 0.0;
+}
+
+bool GlobalLocalizer::searchDue(const std::optional<TPose2D>& odometry) const
+{
+	if (!m_opts.searchAlong || m_searches == 0 || !odometry || !m_searchedOdometry) return true;
+	const TPose2D d = between(*odometry, *m_searchedOdometry);
+	return std::hypot(d.x, d.y) >= m_opts.searchEveryLinear || std::abs(d.phi) >= m_opts.searchEveryAngular;
 }
 
 TPose2D GlobalLocalizer::refine(const std::vector<mrpt::math::TPoint2Df>& points, const TPose2D& start,

@@ -188,6 +188,9 @@ void PerfectMatchSlam::continueSession(const mrpt::maps::CSimpleMap& keyframes, 
 	});
 	keepInitialKeyframes(keyframes);
 	if (m_loops) m_loops->addPriorKeyframes(std::move(prior), graph);
+	// The log may begin on ground the map does not hold (the start found further along it, carried
+	// back): its first scan goes in at the start if the map cannot place it.
+	m_tracker->startAtKnownPose();
 }
 
 std::vector<bool> PerfectMatchSlam::retireCoveredKeyframes(double linear, double angular)

@@ -33,7 +33,7 @@ TrackingState Tracker::judge(const PerfectMatchMatcher::MatchInfo& info, bool un
 	// matched, so the scan goes in at the odometry pose and the map grows from there on. A scan
 	// over mapped space that does not match (the prediction is off) keeps being rejected instead
 	// of corrupting the map.
-	if (m_options.newGroundUnexplored > 0 && lostFor(now) >= m_options.newGroundAfter &&
+	if (m_options.newGroundUnexplored > 0 && (m_atKnownStart || lostFor(now) >= m_options.newGroundAfter) &&
 		unexploredFraction() >= m_options.newGroundUnexplored)
 		return TrackingState::NewGround;
 	return undecided ? TrackingState::Ambiguous : TrackingState::Lost;
@@ -57,6 +57,7 @@ void Tracker::update(const std::optional<TrackingState>& verdict, bool relocaliz
 	else if (matched && relocalized)
 		m_searchedSinceKeyframe = true;
 	if (!verdict) return;
+	m_atKnownStart = false;
 	m_state = *verdict;
 	// A rejected match opens (or extends) a gap, an accepted one closes it.
 	if (!matched)

@@ -84,9 +84,14 @@ class Tracker
 	/** How long the open stretch without an accepted match has lasted at `now` (TrackingGap::length(); 0 while tracking). */
 	double lostFor(double now) const;
 
+	/** The next scan is the first after a start pose given over a map made before (a continued
+	 * session): its prediction is that pose, not odometry that may have drifted while the robot was
+	 * lost, so a scan the map explains too little of is new ground at once (see judge()). */
+	void startAtKnownPose() { m_atKnownStart = true; }
+
 	/** The state a match leaves: tracking when accepted (and not `undecided`), new ground when
-	 * lost for newGroundAfter and `unexploredFraction()` (of the scan at the prediction; asked
-	 * only then) is at least newGroundUnexplored, else ambiguous or lost. */
+	 * lost for newGroundAfter (or at a known start) and `unexploredFraction()` (of the scan at the
+	 * prediction; asked only then) is at least newGroundUnexplored, else ambiguous or lost. */
 	TrackingState judge(const PerfectMatchMatcher::MatchInfo& info, bool undecided, double now,
 						const std::function<double()>& unexploredFraction) const;
 
@@ -113,6 +118,7 @@ class Tracker
 	std::vector<TrackingGap> m_gaps;
 	bool m_trackedSinceKeyframe = true;
 	bool m_searchedSinceKeyframe = false;  // a match since the last keyframe re-localised
+	bool m_atKnownStart = false;  // startAtKnownPose(), until the next judged scan
 	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
 };
 
