@@ -44,11 +44,6 @@ void DynamicDistanceMap::clear()
 	m_queued = 0;
 }
 
-int DynamicDistanceMap::worldToCell(double v) const
-{
-	return static_cast<int>(std::floor(v / m_resolution));
-}
-
 DynamicDistanceMap::Ref DynamicDistanceMap::ref(int cx, int cy) const
 {
 	return Ref{m_blocks.find(blockOf(cx), blockOf(cy)), inBlock(cx, cy)};

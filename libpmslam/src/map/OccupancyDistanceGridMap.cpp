@@ -179,8 +179,15 @@ void OccupancyDistanceGridMap::rasterize(const ScanPoints& scan, const mrpt::mat
 	};
 	// No planar lidar sees a kilometre: a longer beam is a damaged reading, and would cost a
 	// cell visit and a block per 5 cm / 1.6 m of it.
+	// (The squared length decides all but a hair's breadth around the limit, where std::hypot does as
+	// before: hypot is dear, and this runs for every beam of every keyframe of every local map.)
 	auto tooFar = [&](const mrpt::math::TPoint2Df& p) {
-		return std::hypot(double(p.x) - scan.sensorOrigin.x, double(p.y) - scan.sensorOrigin.y) > kMaxBeamLength;
+		const double dx = double(p.x) - scan.sensorOrigin.x, dy = double(p.y) - scan.sensorOrigin.y;
+		const double d2 = dx * dx + dy * dy;
+		constexpr double kBelow = kMaxBeamLength * kMaxBeamLength * (1 - 1e-9), kAbove = kMaxBeamLength * kMaxBeamLength * (1 + 1e-9);
+		if (d2 < kBelow) return false;
+		if (d2 > kAbove) return true;
+		return std::hypot(dx, dy) > kMaxBeamLength;
 	};
 	// Hits first, so a cell that is both hit and crossed in this scan counts as hit.
 	for (const auto& p : scan.hits)

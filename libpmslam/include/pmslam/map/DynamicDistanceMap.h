@@ -98,7 +98,7 @@ class DynamicDistanceMap
 	}
 
 	/** Cell index holding world coordinate v (metres). */
-	int worldToCell(double v) const;
+	int worldToCell(double v) const { return static_cast<int>(std::floor(v / m_resolution)); }
 
 	/** Bytes of heap memory held by cells, directory and queue. */
 	std::size_t memoryBytes() const;
