@@ -83,10 +83,24 @@ Hypothesis HypothesisSearch::search(const PerfectMatchMatcher& matcher, const Dy
 			best.fromAlternative = true;
 			return best;
 		}
+		// Neither explains the scan: a reading that stood still through a long turn and caught up in
+		// one step, whose own error over that turn (a tenth of it or more) leaves the alternative too
+		// far off for a local match, while the prediction counts the turn twice. Each is searched in
+		// the window, and the alternative wins where its search clearly does better.
+		if (poor(h.info) && poor(a.info))
+		{
+			SearchWindow w = window;
+			w.alternative.reset();
+			const Hypothesis fromPrediction = search(matcher, map, hits, predicted, w);
+			Hypothesis fromAlternative = search(matcher, map, hits, *window.alternative, w);
+			if (!(fromAlternative.info.goodness > fromPrediction.info.goodness + kClearlyBetter)) return fromPrediction;
+			fromAlternative.fromAlternative = true;
+			return fromAlternative;
+		}
 	}
 	// The cheap test: a match that explains the scan well needs no search, whatever came before
 	// (after a gap, a jump or a rejection the window is only wider).
-	const bool poor = m_options.wideSearchBelowGoodness > 0 && h.info.goodness < m_options.wideSearchBelowGoodness;
+	const bool poor = this->poor(h.info);
 	if ((!poor && !window.alwaysSearch) || (window.linear <= 0 && window.angular <= 0)) return h;
 	h.wideSearch = true;
 

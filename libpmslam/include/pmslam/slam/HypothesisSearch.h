@@ -104,6 +104,11 @@ class HypothesisSearch
 
    private:
 	HypothesisSearchOptions m_options;
+	/** A match that does not explain the scan well enough to go without the wide search. */
+	bool poor(const PerfectMatchMatcher::MatchInfo& info) const
+	{
+		return m_options.wideSearchBelowGoodness > 0 && info.goodness < m_options.wideSearchBelowGoodness;
+	}
 	/** The whole map's places that explain `hits` well (wideSearchBelowGoodness) and clearly better
 	 * than `h`, each refined, as rivals with their motion prior. */
 	std::vector<Candidate> clearlyBetterElsewhere(const PerfectMatchMatcher& matcher, const DynamicDistanceMap& map,
