@@ -7,8 +7,10 @@
 # Environment: SEEDS (default "1 2 3"), SET="SECTION.KEY=VALUE ..." to run pmslam with those keys overridden
 # (e.g. SET=LoopClosure.enabled=false for the front-end alone; the clean row too), ICP=0 to skip the ICP peer (it runs on level a, first seed, of every
 # fault: it is 20-40x slower), ICP=reuse to keep the peer's results from the previous run in build/ and run only
-# those missing (the peer and the injected logs do not change with pmslam), FAULTS to run a subset (names below).
+# those missing (the peer and the injected logs do not change with pmslam), FAULTS to run a subset (names below),
+# LEVELS (default "a b"; "c": harder levels than the targets are stated for, to find where pmslam breaks next).
 # Writes bench/results/robustness.md (table) and bench/results/robustness.png (error / clean error per fault);
+# with other LEVELS, robustness-<levels>.md and .png (e.g. robustness-c.md);
 # raw runs in build/robustness-runs/. Exit status: 0 done, 1 a run failed (results still written), 2 bad input.
 set -euo pipefail
 
@@ -44,7 +46,19 @@ faults=(
   "kidnap-b|--fault kidnap --count 2 --metres 3|carried 3 m twice, odometry unaware"
   "stall-a|--fault stall --count 8 --scans 8 --turn-deg 40|8 odometry stalls of 8 scans during turns of 40 deg+, then a catch-up"
   "stall-b|--fault stall --count 8 --scans 16 --turn-deg 60|8 stalls of 16 scans during turns of 60 deg+"
+  "slip-c|--fault slip --count 10 --heading-deg 30:45 --lateral 0.5|10 slips: heading 30-45 deg + 0.5 m sideways"
+  "dropout-c|--fault dropout --count 3 --scans 300|3 drop-outs of 300 scans"
+  "gap-c|--fault gap --count 3 --seconds 120|3 logging gaps of 120 s"
+  "spurious-c|--fault spurious --fraction 0.5 --beams 40|50 % of scans with a blob of 40 beams"
+  "kidnap-c|--fault kidnap --count 2 --metres 5|carried 5 m twice, odometry unaware"
+  "stall-c|--fault stall --count 12 --scans 24 --turn-deg 60|12 stalls of 24 scans during turns of 60 deg+"
 )
+levels="${LEVELS:-a b}"
+keep=()
+for f in "${faults[@]}"; do name="${f%%|*}"; for l in $levels; do [ "${name##*-}" = "$l" ] && keep+=("$f"); done; done
+faults=("${keep[@]}")
+[ ${#faults[@]} -gt 0 ] || die "LEVELS='$levels': expected some of a b c"
+suffix=""; [ "$levels" = "a b" ] || suffix="-$(echo "$levels" | tr -d ' ')"
 if [ -n "${FAULTS:-}" ]; then
   keep=()
   for f in "${faults[@]}"; do for w in $FAULTS; do [ "${f%%|*}" = "$w" ] && keep+=("$f"); done; done
@@ -157,7 +171,7 @@ plotdata="$work/plot.txt"; : >"$plotdata"
       echo "| $name | $what | $d | $(r4 "$c") | $(r4 "$worst") ($ratio) | $(r4 "$med") | ${wms:-} | ${wmf:-} | $icpc | $icpf |"
     done
   done
-} >"$results/robustness.md"
+} >"$results/robustness$suffix.md"
 
 # The peer's bars only where it ran (ICP=0 leaves them all NaN, and gnuplot refuses a series without a point).
 plot_cmd="plot '$plotdata' using 2:xtic(1) title 'pmslam' lc rgb '#1f77b4'"
@@ -165,7 +179,7 @@ awk '$3 != "NaN" {found=1} END {exit !found}' "$plotdata" &&
   plot_cmd="$plot_cmd, '' using 3 title 'MRPT ICP-SLAM (tuned)' lc rgb '#d62728'"
 gnuplot <<EOF || note "plot failed"
 set terminal pngcairo size 1200,600 font "Sans,9" noenhanced
-set output '$results/robustness.png'
+set output '$results/robustness$suffix.png'
 set title "Error under injected faults / clean error (worst seed; 1 = unaffected; log scale)"
 set style data histograms
 set style histogram clustered gap 1
@@ -177,5 +191,5 @@ set xtics rotate by -60 scale 0
 set grid ytics
 $plot_cmd
 EOF
-note "wrote $results/robustness.md and robustness.png"
+note "wrote $results/robustness$suffix.md and robustness$suffix.png"
 exit $failed
