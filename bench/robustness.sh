@@ -139,7 +139,7 @@ plotdata="$work/plot.txt"; : >"$plotdata"
 {
   echo "# pmslam under injected faults"
   echo
-  echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC'); command: \`bench/robustness.sh\` (SEEDS=\"${seeds[*]}\"${SET:+, SET=\"$SET\"}), commit $commit"
+  echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC'); command: \`bench/robustness.sh\` (SEEDS=\"${seeds[*]}\"${SET:+, SET=\"$SET\"}${LEVELS:+, LEVELS=\"$LEVELS\"}), commit $commit"
   echo "- each fault injected by \`pm-fault-inject\` into the Carmen log; error = Kuemmerle et al. relative metric"
   echo "  (mean translational error, m) over the relations whose scans are in the faulted log; ratio = error / clean error."
   echo "- pmslam: worst and median over the seeds; ms/scan and matched fraction (accepted / attempted matches) of the worst seed."
