@@ -129,7 +129,7 @@ TEST(Tracker, JudgesMatchesAndKeepsTheGaps)
 	EXPECT_EQ(asked, 0);
 	t.update(v, false, false, 2.0);
 	EXPECT_TRUE(t.lost());
-	EXPECT_NEAR(t.sinceAccepted(3.5), 2.5, 1e-12);
+	EXPECT_NEAR(t.lostFor(3.5), 1.5, 1e-12);
 	// A scan not matched leaves the state as it was.
 	t.update(std::nullopt, false, false, 3.0);
 	EXPECT_EQ(t.state(), pmslam::TrackingState::Lost);

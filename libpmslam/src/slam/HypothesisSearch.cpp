@@ -26,7 +26,7 @@ constexpr double kClearlyBetter = 0.15;
 constexpr double kElsewhereBetter = 2 * kClearlyBetter;
 }  // namespace
 
-SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost, double sinceAccepted) const
+SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost, double lostFor) const
 {
 	SearchWindow w;
 	w.stoppedAt = motion.extrapolated ? motion.previous : motion.pose;
@@ -36,9 +36,12 @@ SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost,
 	if (lost)
 	{
 		// Matches rejected: the odometry may be what is wrong (a robot carried, a wheel slipping),
-		// so the window grows with the time since the last accepted match.
-		w.linear += m_options.relocalizeSpeed * sinceAccepted;
-		w.angular += m_options.relocalizeTurnRate * sinceAccepted;
+		// so the window grows with the time they have been rejected. Not with the time since the last
+		// accepted one: across a drop-out or a gap that would open the whole circle and ±8 m at the
+		// first rejection after it, where look-alikes win; the gap's own doubt is the odometry's
+		// over it (below). (D16)
+		w.linear += m_options.relocalizeSpeed * lostFor;
+		w.angular += m_options.relocalizeTurnRate * lostFor;
 	}
 	if (motion.gap || motion.jump)
 	{

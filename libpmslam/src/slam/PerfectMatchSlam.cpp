@@ -267,7 +267,7 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	const MotionPrediction motion = predict(scan, odometryAtScan);
 	r.predicted = r.pose = motion.pose;
 	r.odometry = motion.odometryAtScanTime;
-	const SearchWindow window = m_hypotheses->window(motion, m_tracker->lost(), m_tracker->sinceAccepted(motion.time));
+	const SearchWindow window = m_hypotheses->window(motion, m_tracker->lost(), m_tracker->lostFor(motion.time));
 
 	// Match once odometry says the robot moved past the gate (without any odometry every scan is
 	// matched), or once its scans say it moves while odometry says it stands still.

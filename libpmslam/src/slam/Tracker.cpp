@@ -3,11 +3,6 @@
 
 namespace pmslam
 {
-double Tracker::sinceAccepted(double now) const
-{
-	return std::isfinite(now - m_lastAcceptedTime) ? now - m_lastAcceptedTime : 0.0;
-}
-
 double Tracker::lostFor(double now) const
 {
 	if (m_gaps.empty() || !m_gaps.back().open) return 0.0;
@@ -74,7 +69,6 @@ void Tracker::update(const std::optional<TrackingState>& verdict, bool relocaliz
 			m_gaps.back().to = now;
 			m_gaps.back().open = false;
 		}
-		m_lastAcceptedTime = now;
 	}
 }
 

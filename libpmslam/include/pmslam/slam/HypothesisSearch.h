@@ -92,9 +92,9 @@ class HypothesisSearch
    public:
 	explicit HypothesisSearch(const HypothesisSearchOptions& options) : m_options(options) {}
 
-	/** The window for a scan predicted by `motion`; `lost`: the last match was rejected,
-	 * `sinceAccepted` s ago. */
-	SearchWindow window(const MotionPrediction& motion, bool lost, double sinceAccepted) const;
+	/** The window for a scan predicted by `motion`; `lost`: the last match was rejected, the first of
+	 * those rejections `lostFor` s ago. */
+	SearchWindow window(const MotionPrediction& motion, bool lost, double lostFor) const;
 
 	/** PM of `hits` (robot frame) from `predicted`, and the search of `window` where that is not
 	 * good enough (or always, with window.alwaysSearch). */

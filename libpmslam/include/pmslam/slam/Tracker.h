@@ -79,8 +79,6 @@ class Tracker
 	TrackingState state() const { return m_state; }
 	/** The last match was not accepted (ambiguous, lost or new ground). */
 	bool lost() const { return m_state != TrackingState::Tracking; }
-	/** Seconds from the last accepted match to `now` (0 when unknown). */
-	double sinceAccepted(double now) const;
 	/** How long the open stretch without an accepted match has lasted at `now` (TrackingGap::length(); 0 while tracking). */
 	double lostFor(double now) const;
 
@@ -114,7 +112,6 @@ class Tracker
    private:
 	TrackerOptions m_options;
 	TrackingState m_state = TrackingState::Tracking;
-	double m_lastAcceptedTime = std::nan("");
 	std::vector<TrackingGap> m_gaps;
 	bool m_trackedSinceKeyframe = true;
 	bool m_searchedSinceKeyframe = false;  // a match since the last keyframe re-localised
