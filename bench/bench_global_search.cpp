@@ -26,6 +26,10 @@
 //  BM_CoarseToFine/S/beams/noise  the same with searchGlobalCoarseToFine (default options), the
 //                           coarse pyramid built once beforehand (coarse_MB); coarse_ms: the
 //                           coarse stage's share; refined: coarse candidates refined per search.
+//  BM_LocalizerSearch/S/beams/noise  the exact search with the options of pm-slam-app's
+//                           localisation (GlobalLocalizer): the 8 best distinct places within 0.7
+//                           of the best, 120 points, the rotation step from the 90th percentile
+//                           range.
 //  BM_GlobalSearchMinScore  the exact search with minScore 0.5: a threshold from the start.
 //  (The exact 50 m and 100 m searches take seconds each: run with --benchmark_filter to pick.)
 //  BM_BruteForce/20         the reference: every lattice pose of the 20 m map scored (row by row,
@@ -170,12 +174,24 @@ enum class Mode
 	CoarseToFine
 };
 
-void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exact)
+// The options pm-slam-app's localisation searches with (GlobalLocalizer): the 8 best distinct
+// places within 0.7 of the best, 120 points, the rotation step from the 90th percentile range.
+BranchAndBoundSearch::Options localizerOptions()
+{
+	BranchAndBoundSearch::Options o;
+	o.candidates = 8;
+	o.minRelativeScore = 0.7;
+	o.maxPoints = 120;
+	o.rangeQuantile = 0.9;
+	return o;
+}
+
+void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exact,
+				 BranchAndBoundSearch::Options o = BranchAndBoundSearch::Options())
 {
 	Setup& s = setup(int(state.range(0)));
 	const int beams = int(state.range(1));
 	const bool withNoise = state.range(2) != 0;
-	BranchAndBoundSearch::Options o;
 	o.minScore = minScore;
 	const BranchAndBoundSearch bnb(*s.pyramid, o);
 	// Built outside the timed searches (once per map, like the pyramid).
@@ -204,6 +220,7 @@ void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exa
 			total.roots += r.stats.roots;
 			total.nodes += r.stats.nodes;
 			total.leaves += r.stats.leaves;
+			total.open = std::max(total.open, r.stats.open);
 			total.climbs += r.stats.climbs;
 			total.seconds += r.stats.seconds;
 			total.coarseSeconds += r.stats.coarseSeconds;
@@ -243,12 +260,14 @@ void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exa
 	state.counters["roots"] = total.roots / searches;
 	state.counters["nodes"] = total.nodes / searches;
 	state.counters["leaves"] = total.leaves / searches;
+	state.counters["open_max"] = double(total.open);
 	state.counters["climbs"] = total.climbs / searches;
 }
 
 void BM_GlobalSearch(benchmark::State& state) { runSearches(state, 0.0); }
 void BM_GlobalSearchMinScore(benchmark::State& state) { runSearches(state, 0.5); }
 void BM_CoarseToFine(benchmark::State& state) { runSearches(state, 0.0, Mode::CoarseToFine); }
+void BM_LocalizerSearch(benchmark::State& state) { runSearches(state, 0.0, Mode::Exact, localizerOptions()); }
 
 void BM_BruteForce(benchmark::State& state)
 {
@@ -277,6 +296,14 @@ BENCHMARK(BM_GlobalSearch)
 	->Args({50, 181, 0})
 	->Args({100, 181, 0})
 	->Args({20, 360, 0})
+	->Unit(benchmark::kMillisecond)
+	->UseManualTime()
+	->Iterations(1);
+BENCHMARK(BM_LocalizerSearch)
+	->Args({20, 181, 0})
+	->Args({50, 181, 0})
+	->Args({100, 181, 0})
+	->Args({100, 181, 1})
 	->Unit(benchmark::kMillisecond)
 	->UseManualTime()
 	->Iterations(1);
