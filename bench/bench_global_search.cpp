@@ -220,7 +220,6 @@ void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exa
 			total.roots += r.stats.roots;
 			total.nodes += r.stats.nodes;
 			total.leaves += r.stats.leaves;
-			total.open = std::max(total.open, r.stats.open);
 			total.climbs += r.stats.climbs;
 			total.seconds += r.stats.seconds;
 			total.coarseSeconds += r.stats.coarseSeconds;
@@ -260,7 +259,6 @@ void runSearches(benchmark::State& state, double minScore, Mode mode = Mode::Exa
 	state.counters["roots"] = total.roots / searches;
 	state.counters["nodes"] = total.nodes / searches;
 	state.counters["leaves"] = total.leaves / searches;
-	state.counters["open_max"] = double(total.open);
 	state.counters["climbs"] = total.climbs / searches;
 }
 

@@ -3,8 +3,6 @@
 #include <pmslam/match/BranchAndBoundSearch.h>
 
 #include <algorithm>
-#include <array>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -36,36 +34,13 @@ struct Pose
 	Key key;
 };
 
-// A node: rotations [a·2^g, (a+1)·2^g) of the lattice (a is the index among level g's rotation
-// intervals), translations [i, i+2^h) × [j, j+2^h). g = 0 is one rotation.
 struct Node
 {
 	int64_t bound;
 	int a, i, j;
-	int g = 0, h = 0;
 };
 
-// ⌈log2 v⌉ for v ≥ 1: the pyramid level whose window of 2^L cells spans v cells.
-inline int ceilLog2(unsigned v) { return v <= 1 ? 0 : 32 - __builtin_clz(v - 1); }
-
 bool byBound(const Node& l, const Node& r) { return l.bound > r.bound; }
-
-// Rotations are searched by branch and bound too, not one by one: a node spans 2^g rotations,
-// and each point's bound is read at the level whose window holds every cell the point takes over
-// those rotations and the node's translations. A rotation interval is halved before the
-// translations once a point at the median range spans more than the node's side over it: the
-// points beyond it then read coarser levels (looser bounds), while a node of one rotation shares
-// nothing with its neighbours. Measured on bench_global_search (K = 8, floor 0.7, 120 points):
-// the median range and a share of 1 against the 90th percentile and shares of 0.25 and 0.5:
-// within the spread or faster on 20, 50 and 100 m buildings.
-const double kReachShare = 1.0;
-const double kReachQuantile = 0.5;
-// Above this level the open nodes are taken best first (a priority queue: the candidates' scores
-// and so the threshold rise as early as they can); at and below it, depth first, children best
-// first (the nodes of one subtree read neighbouring cells: far fewer cache misses). Best first
-// down to the poses needs the fewest bounds, but on a 100 m map its queue holds a million nodes
-// and it takes three times longer; depth first from the roots evaluates 1.3-3 times more nodes.
-const int kDepthFirstBelow = 5;
 
 // At most four children: an insertion sort, best bound first (std::sort's machinery is wasted on
 // four elements).
@@ -86,11 +61,6 @@ class Searcher
    private:
 	int64_t bound(int h, int a, int i, int j) const { return boundBelow(h, a, i, j, 0); }
 	int64_t boundBelow(int h, int a, int i, int j, int64_t limit) const;
-	int64_t jointBound(int g, int a, int h, int i, int j, int64_t limit) const;
-	void jointChildBounds(int g, int a, int h, int i, int j, int64_t limit, int64_t out[4]) const;
-	void buildRotationIntervals(const std::vector<double>& ranges, double res);
-	bool splitsRotations(int g, int h) const { return g > 0 && (h == 0 || m_reach[std::size_t(g)] > kReachShare * (1 << h)); }
-	int intervals(int g) const { return int(m_span[std::size_t(g)].size()) / std::max(1, m_n); }
 	void childBounds(int h, int a, int i, int j, int64_t limit, int64_t out[4]) const;
 	Key keyOf(int64_t score, int a, int i, int j) const
 	{
@@ -115,12 +85,11 @@ class Searcher
 	}
 	int64_t relativeFloor(int64_t best) const { return int64_t(std::ceil(m_relative * double(best) - 1e-9)); }
 
-	int children(const Node& n, Node kids[4]);
-	void explore(const Node& n);
+	void descend(int h, int a, int i, int j);
 	void leaf(int a, int i, int j, int64_t score);
 	bool dominated(const Pose& p) const;
 	Pose bestNextDoor(const Pose& p);
-	bool insideLowerBasin(const Node& n) const;
+	bool insideLowerBasin(int h, const Node& n) const;
 	void climb(Pose p);
 	Pose bestInNeighbourhood(const Pose& p);
 	void localDescend(int h, const Node& n, const Pose& centre, Pose& best);
@@ -135,19 +104,6 @@ class Searcher
 	int64_t m_minRaw;
 	double m_relative, m_r2;
 	std::vector<int> m_cx, m_cy;  // cell of point k at rotation a, translation 0: [a·n + k]
-	// Rotation intervals of 2^g rotations (g ≥ 1): over the interval a, point k's cells span
-	// [minX, minX + span] × [minY, minY + span]: [a·n + k] at m_minX[g] etc. (g = 0: m_cx, m_cy, 0).
-	std::vector<std::vector<int>> m_minX, m_minY;
-	std::vector<std::vector<uint16_t>> m_span;
-	std::vector<double> m_reach;  // [g]: the span (cells) of a point at the reach range, over 2^g rotations
-	int m_rootG = 0;  // rotation level of the roots
-	// Every pyramid level has the same extent (LikelihoodPyramid::shape): its origin, last cell and
-	// row length; each level's cells, up to any level a point may ask for (at most ⌈log2(2^h +
-	// 65535)⌉).
-	int m_x0 = 0, m_y0 = 0, m_wx = 0, m_wy = 0;
-	std::size_t m_stride = 0;
-	std::array<const uint8_t*, 32> m_cells{};
-	std::array<std::size_t, 32> m_mask{};
 	std::vector<Pose> m_peaks;	// confirmed candidates, best first, at most K
 	std::unordered_set<int64_t> m_settled;	// indices of poses climbed through
 };
@@ -177,150 +133,9 @@ Searcher::Searcher(const LikelihoodPyramid& pyramid, const Lattice& lattice,
 			m_cy[std::size_t(a) * m_n + k] = cellOf(lattice.originY, s * p.x + c * p.y, res);
 		}
 	}
-	std::vector<double> ranges;
-	for (const auto& p : lattice.points) ranges.push_back(std::hypot(double(p.x), double(p.y)));
-	buildRotationIntervals(ranges, res);
 	stats.angles = std::size_t(m_nA);
 	stats.translations = std::size_t(lattice.nx) * std::size_t(lattice.ny);
 	stats.points = std::size_t(m_n);
-}
-
-void Searcher::buildRotationIntervals(const std::vector<double>& ranges, double res)
-{
-	// Level g from level g-1: interval a is intervals 2a and 2a+1 (the last may be missing).
-	const int G = ceilLog2(unsigned(std::max(1, m_nA)));
-	const std::size_t n = std::size_t(m_n);
-	m_minX.assign(std::size_t(G) + 1, {});
-	m_minY.assign(std::size_t(G) + 1, {});
-	m_span.assign(std::size_t(G) + 1, {});
-	m_minX[0] = m_cx;
-	m_minY[0] = m_cy;
-	m_span[0].assign(m_cx.size(), 0);
-	std::vector<int> maxX = m_cx, maxY = m_cy, nextX, nextY;
-	for (int g = 1; g <= G; ++g)
-	{
-		const std::size_t below = m_span[std::size_t(g - 1)].size() / n, count = (below + 1) / 2;
-		const auto& bx = m_minX[std::size_t(g - 1)];
-		const auto& by = m_minY[std::size_t(g - 1)];
-		auto& mx = m_minX[std::size_t(g)];
-		auto& my = m_minY[std::size_t(g)];
-		auto& sp = m_span[std::size_t(g)];
-		mx.resize(count * n);
-		my.resize(count * n);
-		sp.resize(count * n);
-		nextX.resize(count * n);
-		nextY.resize(count * n);
-		for (std::size_t a = 0; a < count; ++a)
-		{
-			const std::size_t c0 = 2 * a * n, c1 = (2 * a + 1 < below ? 2 * a + 1 : 2 * a) * n;
-			for (std::size_t k = 0; k < n; ++k)
-			{
-				const std::size_t o = a * n + k;
-				mx[o] = std::min(bx[c0 + k], bx[c1 + k]);
-				my[o] = std::min(by[c0 + k], by[c1 + k]);
-				nextX[o] = std::max(maxX[c0 + k], maxX[c1 + k]);
-				nextY[o] = std::max(maxY[c0 + k], maxY[c1 + k]);
-				sp[o] = uint16_t(std::min(65535, std::max(nextX[o] - mx[o], nextY[o] - my[o])));
-			}
-		}
-		std::swap(maxX, nextX);
-		std::swap(maxY, nextY);
-	}
-	// The split rule's reach: how far a point at the reach range moves over 2^g rotations.
-	std::vector<double> r = ranges;
-	double reachRange = 0;
-	if (!r.empty())
-	{
-		const auto at = r.begin() + std::ptrdiff_t(std::lround(kReachQuantile * double(r.size() - 1)));
-		std::nth_element(r.begin(), at, r.end());
-		reachRange = *at;
-	}
-	m_reach.assign(std::size_t(G) + 1, 0);
-	for (int g = 1; g <= G; ++g) m_reach[std::size_t(g)] = reachRange * m_lat.angularStep * double(1 << g) / res;
-	m_rootG = 0;
-	while (m_rootG < G && !splitsRotations(m_rootG + 1, m_top)) ++m_rootG;
-	// Levels beyond the coarsest read a single cell holding the maximum.
-	static const uint8_t kMaxCell[1] = {uint8_t(LikelihoodPyramid::kMaxValue)};
-	const LikelihoodPyramid::Level& l0 = m_pyr.level(0);
-	m_x0 = l0.x0;
-	m_y0 = l0.y0;
-	m_wx = l0.width - 1;
-	m_wy = l0.height - 1;
-	m_stride = std::size_t(l0.width);
-	for (int L = 0; L < int(m_cells.size()); ++L)
-	{
-		const bool real = L < m_pyr.levels();
-		m_cells[std::size_t(L)] = real ? m_pyr.level(L).cells.data() : kMaxCell;
-		m_mask[std::size_t(L)] = real ? ~std::size_t(0) : 0;
-	}
-}
-
-int64_t Searcher::jointBound(int g, int a, int h, int i, int j, int64_t limit) const
-{
-	// As boundBelow, each point at the level whose window spans its cells over the node's
-	// rotations (span) and translations (2^h): [minX + i, minX + span + i + 2^h) fits in a window
-	// of 2^L cells starting at minX + i. Beyond the pyramid's coarsest level the point counts the
-	// maximum. Every level has the same extent, so the cell index is the same at any level.
-	if (g == 0) return boundBelow(h, a, i, j, limit);
-	const std::size_t base = std::size_t(a) * std::size_t(m_n);
-	const int* mx = &m_minX[std::size_t(g)][base];
-	const int* my = &m_minY[std::size_t(g)][base];
-	const uint16_t* sp = &m_span[std::size_t(g)][base];
-	const unsigned w = 1u << h;
-	const int ox = i - m_x0, oy = j - m_y0;
-	int64_t sum = 0;
-	for (int k0 = 0; k0 < m_n; k0 += 16)
-	{
-		const int k1 = std::min(m_n, k0 + 16);
-		int part = 0;
-		for (int k = k0; k < k1; ++k)
-		{
-			const int L = ceilLog2(w + sp[k]);
-			const std::size_t x = std::size_t(std::clamp(mx[k] + ox, 0, m_wx)), y = std::size_t(std::clamp(my[k] + oy, 0, m_wy));
-			part += m_cells[L][(y * m_stride + x) & m_mask[L]];
-		}
-		sum += part;
-		if (sum + int64_t(m_n - k1) * LikelihoodPyramid::kMaxValue < limit) return sum;
-	}
-	return sum;
-}
-
-void Searcher::jointChildBounds(int g, int a, int h, int i, int j, int64_t limit, int64_t out[4]) const
-{
-	// The four translation children of a node of rotation level g at once (see childBounds).
-	const std::size_t base = std::size_t(a) * std::size_t(m_n);
-	const int* mx = &m_minX[std::size_t(g)][base];
-	const int* my = &m_minY[std::size_t(g)][base];
-	const uint16_t* sp = &m_span[std::size_t(g)][base];
-	const unsigned w = 1u << h;
-	const int s = int(w), ox = i - m_x0, oy = j - m_y0;
-	int64_t sum[4] = {0, 0, 0, 0};
-	for (int k0 = 0; k0 < m_n; k0 += 16)
-	{
-		const int k1 = std::min(m_n, k0 + 16);
-		int p0 = 0, p1 = 0, p2 = 0, p3 = 0;
-		for (int k = k0; k < k1; ++k)
-		{
-			const int L = ceilLog2(w + sp[k]);
-			const uint8_t* cells = m_cells[L];
-			const std::size_t mask = m_mask[L];
-			const int x = mx[k] + ox, y = my[k] + oy;
-			const std::size_t xa = std::size_t(std::clamp(x, 0, m_wx)), xb = std::size_t(std::clamp(x + s, 0, m_wx));
-			const std::size_t ya = std::size_t(std::clamp(y, 0, m_wy)) * m_stride,
-							  yb = std::size_t(std::clamp(y + s, 0, m_wy)) * m_stride;
-			p0 += cells[(ya + xa) & mask];
-			p1 += cells[(ya + xb) & mask];
-			p2 += cells[(yb + xa) & mask];
-			p3 += cells[(yb + xb) & mask];
-		}
-		sum[0] += p0;
-		sum[1] += p1;
-		sum[2] += p2;
-		sum[3] += p3;
-		const int64_t best = std::max(std::max(sum[0], sum[1]), std::max(sum[2], sum[3]));
-		if (best + int64_t(m_n - k1) * LikelihoodPyramid::kMaxValue < limit) break;
-	}
-	for (int c = 0; c < 4; ++c) out[c] = sum[c];
 }
 
 int64_t Searcher::boundBelow(int h, int a, int i, int j, int64_t limit) const
@@ -392,41 +207,23 @@ void Searcher::childBounds(int h, int a, int i, int j, int64_t limit, int64_t ou
 
 std::vector<Pose> Searcher::run()
 {
-	// Best first: the open node of the highest bound is expanded next (ties: the finer node, so
-	// that poses come out before the coarse nodes they tie with). Poses then come out in
-	// descending score, the threshold reaches the K-th candidate's score as early as it can, and
-	// every node expanded has a bound at or above the answer: no order does less.
+	// Every root is scored and the roots are taken best first across all rotations: a good
+	// candidate found early prunes most of the others.
 	const int w = 1 << m_top;
-	auto worse = [](const Node& l, const Node& r) {
-		return l.bound != r.bound ? l.bound < r.bound : l.g + l.h > r.g + r.h;
-	};
-	std::vector<Node> heap;
-	for (int a = 0; a < intervals(m_rootG); ++a)
+	std::vector<Node> roots;
+	for (int a = 0; a < m_nA; ++a)
 		for (int j = 0; j < m_lat.ny; j += w)
-			for (int i = 0; i < m_lat.nx; i += w)
-				heap.push_back({jointBound(m_rootG, a, m_top, i, j, 0), a, i, j, m_rootG, m_top});
-	m_stats.roots = heap.size();
-	m_stats.nodes += heap.size();
-	std::make_heap(heap.begin(), heap.end(), worse);
-	Node kids[4];
-	while (!heap.empty() && heap.front().bound >= threshold())
+			for (int i = 0; i < m_lat.nx; i += w) roots.push_back({bound(m_top, a, i, j), a, i, j});
+	m_stats.roots = roots.size();
+	m_stats.nodes += roots.size();
+	std::sort(roots.begin(), roots.end(), byBound);
+	for (const Node& r : roots)
 	{
-		std::pop_heap(heap.begin(), heap.end(), worse);
-		const Node n = heap.back();
-		heap.pop_back();
-		if (n.h <= kDepthFirstBelow)
-			explore(n);
-		else if (!insideLowerBasin(n))
-		{
-			const int m = children(n, kids);
-			for (int c = 0; c < m; ++c)
-				if (kids[c].bound >= threshold())
-				{
-					heap.push_back(kids[c]);
-					std::push_heap(heap.begin(), heap.end(), worse);
-				}
-			m_stats.open = std::max(m_stats.open, heap.size());
-		}
+		if (r.bound < threshold()) break;
+		if (m_top == 0)
+			leaf(r.a, r.i, r.j, r.bound);
+		else if (!insideLowerBasin(m_top, r))
+			descend(m_top, r.a, r.i, r.j);
 	}
 	// Candidates confirmed before the best was known may fall below its relative floor.
 	if (!m_peaks.empty())
@@ -437,53 +234,30 @@ std::vector<Pose> Searcher::run()
 	return m_peaks;
 }
 
-void Searcher::explore(const Node& n)
+void Searcher::descend(int h, int a, int i, int j)
 {
-	if (n.g == 0 && n.h == 0)
-	{
-		leaf(n.a, n.i, n.j, n.bound);
-		return;
-	}
-	if (insideLowerBasin(n)) return;
+	const int s = 1 << (h - 1);
+	int64_t b[4];
+	childBounds(h - 1, a, i, j, threshold(), b);
 	Node kids[4];
-	const int m = children(n, kids);
+	int m = 0;
+	for (int dy = 0; dy < 2; ++dy)
+		for (int dx = 0; dx < 2; ++dx)
+		{
+			const int ci = i + dx * s, cj = j + dy * s;
+			if (ci < m_lat.nx && cj < m_lat.ny) kids[m++] = {b[dy * 2 + dx], a, ci, cj};
+		}
+	m_stats.nodes += std::size_t(m);
 	sortChildren(kids, m);
 	for (int c = 0; c < m; ++c)
 	{
 		// The threshold may have risen while the previous child was explored.
 		if (kids[c].bound < threshold()) break;
-		explore(kids[c]);
+		if (h == 1)
+			leaf(a, kids[c].i, kids[c].j, kids[c].bound);
+		else if (!insideLowerBasin(h - 1, kids[c]))
+			descend(h - 1, a, kids[c].i, kids[c].j);
 	}
-}
-
-int Searcher::children(const Node& n, Node kids[4])
-{
-	int m = 0;
-	if (splitsRotations(n.g, n.h))
-	{
-		// Two halves of the rotation interval, the same translations.
-		for (int c = 2 * n.a; c <= 2 * n.a + 1 && c < intervals(n.g - 1); ++c)
-			kids[m++] = {jointBound(n.g - 1, c, n.h, n.i, n.j, threshold()), c, n.i, n.j, n.g - 1, n.h};
-	}
-	else
-	{
-		// Four quarters of the translations, the same rotations.
-		const int h = n.h - 1, s = 1 << h;
-		int64_t b[4] = {0, 0, 0, 0};
-		if (n.g == 0)
-			childBounds(h, n.a, n.i, n.j, threshold(), b);
-		else
-			jointChildBounds(n.g, n.a, h, n.i, n.j, threshold(), b);
-		for (int dy = 0; dy < 2; ++dy)
-			for (int dx = 0; dx < 2; ++dx)
-			{
-				const int ci = n.i + dx * s, cj = n.j + dy * s;
-				if (ci >= m_lat.nx || cj >= m_lat.ny) continue;
-				kids[m++] = {b[dy * 2 + dx], n.a, ci, cj, n.g, h};
-			}
-	}
-	m_stats.nodes += std::size_t(m);
-	return m;
 }
 
 void Searcher::leaf(int a, int i, int j, int64_t score)
@@ -503,19 +277,14 @@ bool Searcher::dominated(const Pose& p) const
 	return false;
 }
 
-bool Searcher::insideLowerBasin(const Node& n) const
+bool Searcher::insideLowerBasin(int h, const Node& n) const
 {
 	// A node lying wholly in a candidate's neighbourhood, every pose of it below the candidate,
 	// holds no candidate: the slopes of a peak already found need no exploring.
-	const int w = (1 << n.h) - 1;
-	const int lo = n.a << n.g, hi = std::min(m_nA, (n.a + 1) << n.g) - 1;
+	const int w = (1 << h) - 1;
 	for (const Pose& c : m_peaks)
 	{
-		if (!(n.bound < c.key.score)) continue;
-		// Every rotation of [lo, hi] within the angular radius of c's.
-		int d = lo - c.a;
-		if (m_lat.wrapsAround) d = ((d % m_nA) + m_nA + m_nA / 2) % m_nA - m_nA / 2;
-		if (d < -m_lat.angularRadius || d + (hi - lo) > m_lat.angularRadius) continue;
+		if (!(n.bound < c.key.score) || angularDistance(c.a, n.a) > m_lat.angularRadius) continue;
 		const double dx = std::max(std::abs(n.i - c.i), std::abs(n.i + w - c.i));
 		const double dy = std::max(std::abs(n.j - c.j), std::abs(n.j + w - c.j));
 		if (dx * dx + dy * dy <= m_r2) return true;

@@ -64,7 +64,10 @@ LikelihoodPyramid LikelihoodPyramid::coarsened(int factor, int dilation, int lev
 	c.m_window = {down(m_window.minX), down(m_window.minY), down(m_window.maxX), down(m_window.maxY)};
 	c.m_levels.resize(std::size_t(levels));
 	Level& l = c.m_levels[0];
-	c.shape(l);
+	l.x0 = c.m_window.minX - 1;
+	l.y0 = c.m_window.minY - 1;
+	l.width = c.m_window.width() + 2;
+	l.height = c.m_window.height() + 2;
 	l.cells.assign(std::size_t(l.width) * std::size_t(l.height), 0);
 	// Separable: first the max along x over each coarse column's span of every fine row, then
 	// along y. The padding border stays 0, as every level's must (a clamped look-up far outside
@@ -108,24 +111,14 @@ int LikelihoodPyramid::quantise(double d) const
 	return std::clamp(int(std::lround(kMaxValue * (l - far) / (1 - far))), 0, kMaxValue);
 }
 
-void LikelihoodPyramid::shape(Level& l) const
-{
-	// Every level has the coarsest one's extent: from 2^(levels-1) cells before the window (a
-	// window of the coarsest level starting there still reaches the map's first cell) to one cell
-	// after it (all zero from there on), so that a clamped look-up outside answers the exact
-	// value, and one cell index serves every level (a search reads a point's cell at different
-	// levels).
-	const int pad = 1 << (int(m_levels.size()) - 1);
-	l.x0 = m_window.minX - pad;
-	l.y0 = m_window.minY - pad;
-	l.width = m_window.width() + pad + 1;
-	l.height = m_window.height() + pad + 1;
-}
-
 void LikelihoodPyramid::buildLevel0(const DynamicDistanceMap& map)
 {
+	// One zero cell of padding on each side, so that a clamped look-up outside answers 0.
 	Level& l = m_levels[0];
-	shape(l);
+	l.x0 = m_window.minX - 1;
+	l.y0 = m_window.minY - 1;
+	l.width = m_window.width() + 2;
+	l.height = m_window.height() + 2;
 	l.cells.assign(std::size_t(l.width) * std::size_t(l.height), 0);
 	// Squared distances in cells are small integers: tabulate the likelihood once.
 	std::vector<uint8_t> lut(std::size_t(map.maxSquaredCells()) + 1);
@@ -143,11 +136,16 @@ void LikelihoodPyramid::buildLevel0(const DynamicDistanceMap& map)
 
 void LikelihoodPyramid::buildLevel(int h)
 {
-	// Level h from level h-1: a 2^h window is four 2^(h-1) windows, s = 2^(h-1) apart.
+	// Level h from level h-1: a 2^h window is four 2^(h-1) windows, s = 2^(h-1) apart. Level h
+	// starts 2^h cells before the window (a window starting there still reaches the map's first
+	// cell) and ends one cell after it (all zero from there on).
 	const Level& prev = m_levels[std::size_t(h - 1)];
 	Level& l = m_levels[std::size_t(h)];
 	const int s = 1 << (h - 1);
-	shape(l);
+	l.x0 = m_window.minX - (1 << h);
+	l.y0 = m_window.minY - (1 << h);
+	l.width = m_window.width() + (1 << h) + 1;
+	l.height = m_window.height() + (1 << h) + 1;
 	l.cells.resize(std::size_t(l.width) * std::size_t(l.height));
 	// Column indices into prev's rows, clamped: prev's first and last columns are zero, like
 	// everything beyond them.

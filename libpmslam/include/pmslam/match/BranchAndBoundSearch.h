@@ -4,20 +4,10 @@
  * know where it is needs the whole map and every heading: millions of translations times
  * thousands of rotations, far too many to score one by one. Olson's multi-resolution correlative
  * matching (ICRA 2009), in the form of Hess et al. (Cartographer, ICRA 2016), finds the same
- * optimum while looking at a tiny part of them: a node is a square of 2^h × 2^h translations;
- * LikelihoodPyramid's level h bounds every score in it from above; nodes whose bound cannot beat
- * what the search already has are dropped.
- *
- * Rotations are branched and bounded as well, not searched one by one as in Cartographer: a node
- * also spans 2^g neighbouring rotations, over which each point takes the cells of a small box
- * (span cells a side, from the point's range and the interval); the node's bound reads each point
- * at the level whose window holds that box grown by the node's translations (a point beyond the
- * coarsest level counts the maximum). On a building, a bound only falls below a good match's score
- * at windows of about a metre, and every rotation had to be taken down to there on its own; now
- * rotations share their nodes until their points drift apart. An interval is halved before the
- * translations when a point at the median range spans more than the node's side over it.
- * Order: above level 5 the open nodes are taken best first, below it depth first, children
- * best bound first (see kDepthFirstBelow).
+ * optimum while looking at a tiny part of them: for one rotation, a node is a square of 2^h × 2^h
+ * translations; LikelihoodPyramid's level h bounds every score in it from above; the search goes
+ * depth-first, children best bound first, and drops a node whose bound cannot beat what it
+ * already has.
  *
  * The lattice (Lattice): rotations θ_a (a step such that the farthest point moves at most one
  * cell), translations origin + (i, j)·res (the map resolution). The score of lattice pose
@@ -34,10 +24,12 @@
  * pass computes identically. Two candidates are therefore further apart than the thresholds, and
  * a second candidate scoring close to the first means the scan fits two places.
  *
- * Cost (bench/bench_global_search.cpp, CPU per whole-map search, 181-beam scans, the options of
- * pm-slam-app's localisation): the nodes whose bound reaches the answer's score dominate, and
- * they grow faster than the map's area: about 0.07 s on a 20 m × 20 m building at 0.05 m,
- * 0.45 s on 50 m, 0.9 s on 100 m (one rotation at a time: 0.07, 0.8 and 2.9 s).
+ * Cost: every rotation's root nodes are scored (rotations × (side / 2^top)² bounds), then the
+ * nodes whose bound reaches the best score so far. In a building, a coarse node's window holds a
+ * wall for nearly every point, so bounds only fall below a good match's score a few levels above
+ * the cells: the node count, not the leaves or the candidate checks, dominates, and it grows
+ * faster than the map's area (bench/bench_global_search.cpp): on a 100 m × 100 m building at
+ * 0.05 m, ~10 s of CPU per whole-map search with 181 points.
  *
  * searchGlobalCoarseToFine() is the whole-map search for a robot switched on in a big map: the
  * same exact search on a lattice 4 times coarser (a dilated max of level 0 as its score, 64
@@ -148,7 +140,6 @@ class BranchAndBoundSearch
 		std::size_t roots = 0;	///< nodes at the coarsest level (all scored)
 		std::size_t nodes = 0;	///< bounds evaluated in the main search (roots included)
 		std::size_t leaves = 0;	 ///< poses scored in the main search
-		std::size_t open = 0;  ///< most nodes waiting at once (the search's memory: 24 bytes each)
 		std::size_t climbs = 0, climbNodes = 0;	 ///< neighbourhood searches and the bounds they evaluated
 		double seconds = 0;	 ///< wall time of search() (rotating the points included)
 		double coarseSeconds = 0;  ///< searchGlobalCoarseToFine: wall time of its coarse stage

@@ -17,10 +17,7 @@
  * changes.
  *
  * Outside the window every cell scores 0 (as if beyond the truncation): each level is padded with
- * zeros so that a clamped look-up answers exactly the max over the window of 2^h cells. Every
- * level has the same extent (the coarsest level's: 2^(levels-1) cells before the window, one
- * after), so that one cell index serves all of them: a search reads each point at a level of its
- * own.
+ * zeros so that a clamped look-up answers exactly the max over the window of 2^h cells.
  *
  * Frames: cell (i, j) covers [i·res, (i+1)·res) × [j·res, (j+1)·res) in the distance map's frame
  * (DynamicDistanceMap). A pyramid built from an MRPT grid has its own frame shifted by
@@ -119,7 +116,6 @@ class LikelihoodPyramid
 
    private:
 	LikelihoodPyramid() = default;
-	void shape(Level& l) const;
 	void buildLevel0(const DynamicDistanceMap& map);
 	void buildLevel(int h);
 
