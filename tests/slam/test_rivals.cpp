@@ -82,3 +82,46 @@ TEST(Rivals, WithoutItNothingIsDecided)
 	EXPECT_NE(o.state, GlobalLocalizer::State::Found) << "decided at " << o.scans << " scans on a symmetric room";
 }
 
+
+// Turning in place where the odometry says the robot creeps forward (a lidar ahead of the axle, or wheel
+// readings timed against the scans, misplace the base by centimetres over a turn): the right place is held
+// by what it sees (a pillar) and does not creep; a look-alike down a plain stretch of the corridor, which
+// nothing holds along it, follows the odometry. The right place fits better (the look-alike's scans end on
+// a pillar that is not there); weighing each view by how well a place's own motion agrees with the
+// odometry's must not hand the decision to the look-alike: over a turn, the odometry's translation is
+// that much less sure (RivalsOptions::motionNoisePerTurn; aces, decisions.md D43).
+TEST(Rivals, ATurnInPlaceDoesNotHandTheDecisionToALookAlikeThatFollowsTheOdometry)
+{
+	SyntheticWorld w;
+	w.addBox(-12.025, -1.025, 12.025, 1.025);  // a corridor 2 m wide, 24 m long
+	w.addBox(0.6, 0.75, 0.8, 1.025);  // a pillar on its north wall, 0.7 m east of the right place
+	mrpt::maps::COccupancyGridMap2D grid(-13, 13, -2, 2, 0.05f);
+	w.rasterise(grid);
+	const pmslam::PerfectMatchMatcher::TConfigParams params;
+	const pmslam::PerfectMatchMatcher matcher(params);
+	const auto map = pmslam::PerfectMatchMatcher::distanceMapFromGrid(grid, params.maxDistance, params.occupiedThreshold);
+	const TPose2D right(0, 0, 0), lookAlike(-7, 0, 0);
+	pmslam::Rivals rivals{pmslam::RivalsOptions()};
+	const auto pointsAt = [&](const TPose2D& pose, unsigned seed) {
+		return pmslam::scanToPoints(w.scan(pose, 361, 2 * M_PI, 3.0, 0.01, seed)).hits;
+	};
+	const auto first = pointsAt(right, 1);
+	for (const TPose2D& p : {right, lookAlike})
+	{
+		pmslam::PerfectMatchMatcher::MatchInfo info;
+		const TPose2D at = matcher.alignPoints(map, first, p, &info);
+		rivals.add(at, at, info);
+	}
+	ASSERT_EQ(rivals.size(), 2u);
+	// 2° a scan, and 8 mm of creep forward in the odometry each scan.
+	bool decided = false;
+	for (int k = 1; k <= 90 && !decided; ++k)
+	{
+		const TPose2D truth(0, 0, mrpt::math::wrapToPi(k * 2 * M_PI / 180));
+		rivals.follow(matcher, map, pointsAt(truth, unsigned(k + 1)), TPose2D(0.008, 0, 2 * M_PI / 180));
+		decided = rivals.decide();
+	}
+	ASSERT_TRUE(decided);
+	EXPECT_LT(std::hypot(rivals.leader().pose.x - right.x, rivals.leader().pose.y - right.y), 0.3)
+		<< "decided at " << rivals.leader().pose.x << ", " << rivals.leader().pose.y;
+}

@@ -83,8 +83,9 @@ double Rivals::motionAgreement(const Rival& r) const
 	if (m_options.motionNoiseShare <= 0) return 1.0;
 	const mrpt::poses::CPose2D own = mrpt::poses::CPose2D(r.pose) - mrpt::poses::CPose2D(r.lastView);
 	const double moved = std::hypot(m_sinceView.x(), m_sinceView.y());
-	const double sl = m_options.motionNoiseLinear + m_options.motionNoiseShare * moved;
-	const double sa = m_options.motionNoiseAngular + m_options.motionNoiseShare * std::abs(m_sinceView.phi());
+	const double turn = std::abs(m_sinceView.phi());
+	const double sl = m_options.motionNoiseLinear + m_options.motionNoiseShare * moved + m_options.motionNoisePerTurn * turn;
+	const double sa = m_options.motionNoiseAngular + m_options.motionNoiseShare * turn;
 	const double el = std::hypot(own.x() - m_sinceView.x(), own.y() - m_sinceView.y()) / sl;
 	const double ea = mrpt::math::wrapToPi(own.phi() - m_sinceView.phi()) / sa;
 	return std::exp(-0.5 * (el * el + ea * ea));
