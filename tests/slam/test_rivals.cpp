@@ -1,7 +1,8 @@
 // Rivals: look-alike places kept until the scans decide. In a square room whose walls look the same in
 // four headings, with a lidar that sees 2 m, the first scans fit several places; only the view of the one
 // thing that breaks the symmetry tells them apart, and then the right one must win — and in the same room
-// without it, nothing may be decided.
+// without it, nothing may be decided. And a robot turning in place must not lose to a look-alike that
+// merely follows the odometry.
 #include <gtest/gtest.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose2D.h>
@@ -81,7 +82,6 @@ TEST(Rivals, WithoutItNothingIsDecided)
 	const Outcome o = drive(squareRoom(false));
 	EXPECT_NE(o.state, GlobalLocalizer::State::Found) << "decided at " << o.scans << " scans on a symmetric room";
 }
-
 
 // Turning in place where the odometry says the robot creeps forward (a lidar ahead of the axle, or wheel
 // readings timed against the scans, misplace the base by centimetres over a turn): the right place is held
