@@ -38,6 +38,7 @@
 #include <benchmark/benchmark.h>
 #include <pmslam/match/BranchAndBoundSearch.h>
 #include <pmslam/match/LikelihoodPyramid.h>
+#include <pmslam/slam/GlobalLocalizer.h>
 
 #include <chrono>
 #include <ctime>
@@ -174,14 +175,16 @@ enum class Mode
 	CoarseToFine
 };
 
-// The options pm-slam-app's localisation searches with (GlobalLocalizer): the 8 best distinct
-// places within 0.7 of the best, 120 points, the rotation step from the 90th percentile range.
+// The options pm-slam-app's localisation searches with (GlobalLocalizer's defaults: the 8 best
+// distinct places within 0.7 of the best, 120 points), the rotation step, as its own, from the
+// 90th percentile range.
 BranchAndBoundSearch::Options localizerOptions()
 {
+	const GlobalLocalizerOptions localizer;
 	BranchAndBoundSearch::Options o;
-	o.candidates = 8;
-	o.minRelativeScore = 0.7;
-	o.maxPoints = 120;
+	o.candidates = localizer.candidates;
+	o.minRelativeScore = localizer.candidateFloor;
+	o.maxPoints = localizer.searchPoints;
 	o.rangeQuantile = 0.9;
 	return o;
 }
