@@ -228,7 +228,7 @@ TEST(HypothesisSearch, TheWindowGrowsWithWhatIsUncertain)
 	EXPECT_EQ(w.angular, M_PI);	 // 30 + 180 deg, at most 180
 	EXPECT_FALSE(w.alwaysSearch);
 	m.jump = true;
-	m.step = 5.0;  // a 5 m step: 0.5 m more
+	m.step = m.travelled = 5.0;  // a 5 m step: 0.5 m more
 	EXPECT_NEAR(h.window(m, false, 0).linear, 1.0, 1e-12);
 	EXPECT_EQ(h.window(m, true, 100.0).linear, 8.0);  // at most relocalizeMaxLinear
 	// No odometry across a gap: searched always, as far as the robot could drive meanwhile.
@@ -238,6 +238,29 @@ TEST(HypothesisSearch, TheWindowGrowsWithWhatIsUncertain)
 	w = h.window(stale, false, 0);
 	EXPECT_TRUE(w.alwaysSearch);
 	EXPECT_NEAR(w.linear, 2.0, 1e-12);
+}
+
+TEST(MotionModel, AcrossAGapTheRobotMayHaveDrivenWhatItsMeanSpeedCoversInThatTime)
+{
+	pmslam::MotionModel m(motionOptions());
+	// 10 s at 0.5 m/s, turning 0.1 rad/s: a scan and a reading every 0.1 s.
+	TPose2D odo(0, 0, 0);
+	for (int k = 0; k <= 100; ++k)
+	{
+		if (k > 0) odo = (mrpt::poses::CPose2D(odo) + mrpt::poses::CPose2D(0.05, 0, 0.01)).asTPose();
+		const auto p = m.predict(at(10.0 + 0.1 * k), odo, odo);
+		if (k > 0)
+		{
+			EXPECT_NEAR(p.travelled, 0.05, 1e-9);  // no gap: the step itself
+		}
+	}
+	// 30 s unlogged; the readings' difference is 1 m and no turn (it came back round).
+	const TPose2D after = (mrpt::poses::CPose2D(odo) + mrpt::poses::CPose2D(1.0, 0, 0)).asTPose();
+	const auto p = m.predict(at(10.0 + 0.1 * 100 + 30.0), after, odo);
+	ASSERT_TRUE(p.gap);
+	EXPECT_NEAR(p.step, 1.0, 1e-9);
+	EXPECT_NEAR(p.travelled, 0.5 * 30.0, 0.2);
+	EXPECT_NEAR(p.turned, 0.1 * 30.0, 0.05);
 }
 
 TEST(MotionModel, AReadingThatStoodStillWhileTheScansMovedIsAlsoCountedFromWhereItStood)

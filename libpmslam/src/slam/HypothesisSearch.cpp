@@ -46,9 +46,10 @@ SearchWindow HypothesisSearch::window(const MotionPrediction& motion, bool lost,
 	if (motion.gap || motion.jump)
 	{
 		// A long step between two scans (no scan logged meanwhile): the prediction is as good as
-		// the odometry over that step, off by a fraction of the distance and of the turn.
-		w.linear += m_options.relocalizeOdometryError * motion.step;
-		w.angular += m_options.relocalizeOdometryError * std::abs(motion.turn);
+		// the odometry over that step, off by a fraction of the distance and of the turn the robot
+		// may have driven (over a gap more than the two readings' difference says).
+		w.linear += m_options.relocalizeOdometryError * motion.travelled;
+		w.angular += m_options.relocalizeOdometryError * motion.turned;
 	}
 	// A stale prediction (no odometry across a gap) is searched even when the match there looks
 	// good, and, without odometry, until a search has decided where the robot is: the prediction

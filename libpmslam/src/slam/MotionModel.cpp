@@ -115,6 +115,19 @@ MotionPrediction MotionModel::predict(const mrpt::Clock::time_point& stamp,
 	m.gap = m.sincePrevious > m_options.relocalizeAfterGap;
 	m.jump = m.step > m_options.relocalizeAfterJump;
 	m.stale = m.gap && !m.odometry && std::isfinite(m.sincePrevious);
+	m.travelled = m.step;
+	m.turned = std::abs(m.turn);
+	if (m.gap && m.odometry && !m.glitch && m_drivingTime > 0)
+	{
+		m.travelled = std::max(m.travelled, m_path / m_drivingTime * m.sincePrevious);
+		m.turned = std::max(m.turned, m_turning / m_drivingTime * m.sincePrevious);
+	}
+	else if (m.odometry && !m.glitch && std::isfinite(m.sincePrevious) && m.sincePrevious > 0)
+	{
+		m_path += m.step;
+		m_turning += std::abs(m.turn);
+		m_drivingTime += m.sincePrevious;
+	}
 	if (std::isfinite(m.time)) m_lastScanTime = m.time;
 	return m;
 }

@@ -61,6 +61,11 @@ struct MotionPrediction
 	double time = std::nan("");	 ///< the scan's timestamp (s; NaN: unknown)
 	double sincePrevious = std::nan("");  ///< s since the previous timed scan (NaN: unknown)
 	double step = 0, turn = 0;	///< odometry's distance (m) and turn (rad) since the previous scan
+	/** How far (m) and how much (rad) the robot may have driven and turned since the previous scan:
+	 * the odometry's step and turn, and across a gap at least what the robot's own mean speed and turn
+	 * rate so far cover in that time (the path between two readings a gap apart is unknown; their
+	 * difference is only its least). The odometry's error grows with these, not with the difference. */
+	double travelled = 0, turned = 0;
 	bool glitch = false;  ///< the odometry step was implausible and is ignored
 	bool gap = false;  ///< more than relocalizeAfterGap since the previous scan
 	bool jump = false;	///< odometry stepped more than relocalizeAfterJump
@@ -109,6 +114,9 @@ class MotionModel
 	std::optional<std::pair<mrpt::math::TPose2D, mrpt::math::TPose2D>> m_anchor;
 	std::optional<mrpt::math::TPose2D> m_anchorPending;
 	double m_lastScanTime = std::nan("");
+	// The odometry's path (m), turn (rad) and time (s) over the scan intervals that were not gaps:
+	// the robot's mean speed and turn rate, for what it may have done during a gap.
+	double m_path = 0, m_turning = 0, m_drivingTime = 0;
 	// A lidar alone: the accepted matches of the last kVelocityWindow s (time, pose), oldest first,
 	// and the time of the newest.
 	std::deque<std::pair<double, mrpt::math::TPose2D>> m_matches;
