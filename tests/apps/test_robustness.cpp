@@ -583,3 +583,26 @@ TEST(Robustness, AfterALongGapTheWindowCoversWhatTheRobotCouldHaveDriven)
 	EXPECT_LT(worst, 0.1);
 	std::cout << "after a 60 s gap: worst error " << worst << " m\n";
 }
+
+// D56, on a worst seed of the fault benchmark's harder level (intel, three 120 s logging gaps, seed 1):
+// after the third gap the robot is 3.2 m and 44 degrees from the prediction, partly on ground the
+// gap skipped. The window's best pose explains 0.42 of the scan, but the 79 % of it that overlaps the
+// map agrees only 0.53: a wrong pose. Taken and inserted (D7 alone), the run mapped on from it:
+// 0.156 m. Not taken after a gap (lost until a scan explains itself), the next scans find the robot.
+TEST(Robustness, AfterAGapAPoseTheMapContradictsIsNotTaken)
+{
+	const fs::path datasets = PMSLAM_SOURCE_DIR "/../shared/datasets";
+	const fs::path clf = datasets / "intel" / "intel.clf";
+	if (!fs::exists(clf)) GTEST_SKIP() << clf << " absent: the benchmark logs live in ../shared/datasets beside the project";
+	ScratchDir d("benchmark-gap-overlap");
+	const std::string faulted = d.path("faulted.clf");
+	const auto inject =
+		run(quote(kInject) + " --fault gap --count 3 --seconds 120 --seed 1 " + quote(clf.string()) + " " + quote(faulted));
+	ASSERT_EQ(inject.exitCode, 0) << inject.output;
+	const auto a = mapLog(d, faulted, "defaults");
+	EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
+	const auto rel = pmslam::loadRelations((datasets / "intel" / "intel.relations").string());
+	const auto err = pmslam::evaluateRelativePoses(a.traj, rel);
+	std::cout << "intel gap-c seed 1: " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
+	EXPECT_LT(err.transMean, 0.025);	 // clean 0.0166; the failure is 0.156
+}

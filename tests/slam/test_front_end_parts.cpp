@@ -118,13 +118,13 @@ TEST(Tracker, JudgesMatchesAndKeepsTheGaps)
 		++asked;
 		return 0.9;
 	};
-	EXPECT_EQ(t.judge(match(0.8), false, 1.0, unexplored), pmslam::TrackingState::Tracking);
+	EXPECT_EQ(t.judge(match(0.8), false, false, 1.0, unexplored), pmslam::TrackingState::Tracking);
 	t.update(pmslam::TrackingState::Tracking, false, false, 1.0);
 	EXPECT_FALSE(t.lost());
 	EXPECT_TRUE(t.gaps().empty());
 
 	// A poor match at 2 s opens a gap; not lost long enough for new ground (the map is not asked).
-	const auto v = t.judge(match(0.1), false, 2.0, unexplored);
+	const auto v = t.judge(match(0.1), false, false, 2.0, unexplored);
 	EXPECT_EQ(v, pmslam::TrackingState::Lost);
 	EXPECT_EQ(asked, 0);
 	t.update(v, false, false, 2.0);
@@ -134,10 +134,10 @@ TEST(Tracker, JudgesMatchesAndKeepsTheGaps)
 	t.update(std::nullopt, false, false, 3.0);
 	EXPECT_EQ(t.state(), pmslam::TrackingState::Lost);
 	// Undecided at 3 s: ambiguous, still in the gap.
-	EXPECT_EQ(t.judge(match(0.9), true, 3.0, unexplored), pmslam::TrackingState::Ambiguous);
+	EXPECT_EQ(t.judge(match(0.9), true, false, 3.0, unexplored), pmslam::TrackingState::Ambiguous);
 	t.update(pmslam::TrackingState::Ambiguous, false, false, 3.0);
 	// Lost for 2.5 s over unexplored space: new ground.
-	EXPECT_EQ(t.judge(match(0.1), false, 4.5, unexplored), pmslam::TrackingState::NewGround);
+	EXPECT_EQ(t.judge(match(0.1), false, false, 4.5, unexplored), pmslam::TrackingState::NewGround);
 	EXPECT_EQ(asked, 1);
 	t.update(pmslam::TrackingState::NewGround, false, true, 4.5);
 	ASSERT_EQ(t.gaps().size(), 1u);
@@ -162,9 +162,29 @@ TEST(Tracker, MostlyNewGroundIsAcceptedWhereTheOverlapAgrees)
 	auto m = match(0.2);
 	m.inlierGoodness = 0.8;
 	m.inlierFraction = 0.25;  // 25 of 100 points overlap the map, and agree
-	EXPECT_EQ(t.judge(m, false, 0, [] { return 0.0; }), pmslam::TrackingState::Tracking);
+	EXPECT_EQ(t.judge(m, false, false, 0, [] { return 0.0; }), pmslam::TrackingState::Tracking);
 	m.inlierFraction = 0.1;  // 10: too few to trust
-	EXPECT_EQ(t.judge(m, false, 0, [] { return 0.0; }), pmslam::TrackingState::Lost);
+	EXPECT_EQ(t.judge(m, false, false, 0, [] { return 0.0; }), pmslam::TrackingState::Lost);
+}
+
+TEST(Tracker, AfterAGapAMatchIsTakenOnlyWhereItsOverlapWithTheMapAgrees)
+{
+	pmslam::TrackerOptions o;
+	o.minGoodness = 0.3;
+	o.minOverlapGoodness = 0.6;
+	o.minPoints = 20;
+	pmslam::Tracker t(o);
+	// intel, the first scan after a 120 s gap: 0.42 of the scan explained, its 79 % that overlaps the
+	// map agreeing only 0.53. Taken while tracking; after a gap, where the prediction is in doubt, not.
+	auto m = match(0.42);
+	m.inlierGoodness = 0.53;
+	m.inlierFraction = 0.79;
+	EXPECT_EQ(t.judge(m, false, false, 0, [] { return 0.0; }), pmslam::TrackingState::Tracking);
+	EXPECT_EQ(t.judge(m, false, true, 0, [] { return 0.0; }), pmslam::TrackingState::Lost);
+	// The same share explained by a pose whose overlap agrees (the rest new ground) is taken.
+	m.inlierGoodness = 0.85;
+	m.inlierFraction = 0.49;
+	EXPECT_EQ(t.judge(m, false, true, 0, [] { return 0.0; }), pmslam::TrackingState::Tracking);
 }
 
 TEST(Tracker, AKeyframeAfterARejectionIsNotTracked)

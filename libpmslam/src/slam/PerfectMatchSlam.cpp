@@ -379,7 +379,7 @@ std::optional<TrackingState> PerfectMatchSlam::matchScan(const mrpt::obs::CObser
 	if (standstillCheck && StandstillCheck::stillThere(best.pose, r.predicted)) return std::nullopt;
 	// On a fixed map, space no scan observed is off the map: the robot cannot be "on new ground"
 	// there (nothing would be inserted), only lost.
-	TrackingState verdict = m_tracker->judge(r.info, r.undecided, motion.time, [&] {
+	TrackingState verdict = m_tracker->judge(r.info, r.undecided, motion.gap, motion.time, [&] {
 		return mapUpdating() ? m_grid->unexploredFraction(pts.hits, r.predicted) : 0.0;
 	});
 	if (verdict == TrackingState::Tracking && crossesWalls(pts, best.pose))

@@ -11,18 +11,23 @@ double Tracker::lostFor(double now) const
 	return g.length();
 }
 
-bool Tracker::acceptable(const PerfectMatchMatcher::MatchInfo& info) const
+bool Tracker::acceptable(const PerfectMatchMatcher::MatchInfo& info, bool afterGap) const
 {
+	// D56: after a logging gap the prediction itself is in doubt, and a pose that explains a part of
+	// the scan (D7's share) may be a wrong one that the map contradicts everywhere else. There a match
+	// is taken only where the part of the scan that overlaps the map agrees with it (D13's test); the
+	// rest of the scan may still be new ground.
+	if (afterGap && info.inlierGoodness < m_options.minOverlapGoodness) return false;
 	if (info.goodness >= m_options.minGoodness) return true;
 	// Mostly new ground: trust the part that overlaps the map, if there is enough of it.
 	return m_options.minOverlapGoodness > 0 && info.inlierGoodness >= m_options.minOverlapGoodness &&
 		   info.inlierFraction * info.nPoints >= m_options.minPoints;
 }
 
-TrackingState Tracker::judge(const PerfectMatchMatcher::MatchInfo& info, bool undecided, double now,
+TrackingState Tracker::judge(const PerfectMatchMatcher::MatchInfo& info, bool undecided, bool afterGap, double now,
 							 const std::function<double()>& unexploredFraction) const
 {
-	if (!undecided && acceptable(info)) return TrackingState::Tracking;
+	if (!undecided && acceptable(info, afterGap)) return TrackingState::Tracking;
 	// Lost for a while and the scan lies in space no scan has observed yet, at the prediction:
 	// the robot is on new ground (after a gap it drove somewhere never mapped). Nothing can be
 	// matched, so the scan goes in at the odometry pose and the map grows from there on. A scan

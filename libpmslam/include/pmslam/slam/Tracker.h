@@ -89,8 +89,9 @@ class Tracker
 
 	/** The state a match leaves: tracking when accepted (and not `undecided`), new ground when
 	 * lost for newGroundAfter (or at a known start) and `unexploredFraction()` (of the scan at the
-	 * prediction; asked only then) is at least newGroundUnexplored, else ambiguous or lost. */
-	TrackingState judge(const PerfectMatchMatcher::MatchInfo& info, bool undecided, double now,
+	 * prediction; asked only then) is at least newGroundUnexplored, else ambiguous or lost.
+	 * `afterGap`: the first scan after a logging gap, whose prediction is in doubt (D56). */
+	TrackingState judge(const PerfectMatchMatcher::MatchInfo& info, bool undecided, bool afterGap, double now,
 						const std::function<double()>& unexploredFraction) const;
 
 	/** What the back-end is told of a keyframe taken at this scan (matched: the scan's match was
@@ -116,7 +117,7 @@ class Tracker
 	bool m_trackedSinceKeyframe = true;
 	bool m_searchedSinceKeyframe = false;  // a match since the last keyframe re-localised
 	bool m_atKnownStart = false;  // startAtKnownPose(), until the next judged scan
-	bool acceptable(const PerfectMatchMatcher::MatchInfo& info) const;
+	bool acceptable(const PerfectMatchMatcher::MatchInfo& info, bool afterGap) const;
 };
 
 }  // namespace pmslam
