@@ -82,18 +82,12 @@ std::array<BlockMask, 2> splitWestEast(const BlockMask& all)
 constexpr std::size_t kGlobalPlaces = 3;
 constexpr double kGlobalWindow = 1.0, kGlobalAngle = 10.0 * M_PI / 180, kGlobalVisitRadius = 5.0;
 
+// The whole map asked for a keyframe's places after lost tracking (D46): the few within 0.8 of the best.
+BranchAndBoundSearch::Options globalSearchOptions() { return BranchAndBoundSearch::Options::wholeMap(kGlobalPlaces, 0.8); }
+
 // m: the lever arm at which a heading error counts as a displacement (what a turn moves at 5 m from the robot).
 constexpr double kDoubtLever = 5.0;
 
-BranchAndBoundSearch::Options globalSearchOptions()
-{
-	BranchAndBoundSearch::Options o;
-	o.candidates = kGlobalPlaces;
-	o.minRelativeScore = 0.8;
-	o.maxPoints = 120;
-	o.rangeQuantile = 0.9;
-	return o;
-}
 
 // A loose information for a loop edge along directions the scan does not fix (a corridor):
 // 1 m and 30 degrees, enough to keep the matrix positive definite without pulling.

@@ -177,13 +177,8 @@ std::vector<Candidate> HypothesisSearch::clearlyBetterElsewhere(const PerfectMat
 {
 	// The whole map's best places (branch and bound, coarse to fine, as the back-end searches a
 	// stretch lost beyond its window: D46), refined by PM.
-	BranchAndBoundSearch::Options o;
-	o.candidates = 8;
-	o.minRelativeScore = 0.7;
-	o.maxPoints = 120;
-	o.rangeQuantile = 0.9;
 	const LikelihoodPyramid fine(map);
-	const BranchAndBoundSearch search(fine, o);
+	const BranchAndBoundSearch search(fine, BranchAndBoundSearch::Options::wholeMap(8, 0.7));
 	const LikelihoodPyramid coarse = search.coarsePyramid();
 	const double needed = std::max(m_options.wideSearchBelowGoodness, h.info.goodness + kElsewhereBetter);
 	std::vector<Candidate> better;

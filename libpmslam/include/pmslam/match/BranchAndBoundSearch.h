@@ -110,6 +110,20 @@ class BranchAndBoundSearch
 			double angularSteps = 1;  ///< refinement ±(coarse rotation steps)
 		};
 		CoarseToFine coarse;
+
+		/** One scan searched over the whole map, as the front-end after a gap (D53) and the back-end
+		 * after lost tracking (D46) ask it: 120 points, the rotation step set by their 90th-percentile
+		 * range (a few far returns need not multiply the rotations), the `candidates` best distinct
+		 * places within `floor` of the best. */
+		static Options wholeMap(std::size_t candidates, double floor)
+		{
+			Options o;
+			o.candidates = candidates;
+			o.minRelativeScore = floor;
+			o.maxPoints = 120;
+			o.rangeQuantile = 0.9;
+			return o;
+		}
 	};
 
 	/** The lattice searched. Built by windowLattice() or globalLattice(); public so that a
