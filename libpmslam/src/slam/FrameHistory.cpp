@@ -20,7 +20,13 @@ mrpt::math::TPose2D FrameHistory::toScanFrame(std::size_t scan, const mrpt::math
 	return (m_frames[m_scanFrame[scan]] + mrpt::poses::CPose2D(pose)).asTPose();
 }
 
-void FrameHistory::addKeyframe(const mrpt::math::TPose2D& pose) { m_nodeInFirstFrame.push_back(toFirst(pose)); }
+void FrameHistory::addKeyframe(const mrpt::math::TPose2D& pose)
+{
+	m_nodeInFirstFrame.push_back(toFirst(pose));
+	for (const std::size_t s : m_pendingAnchors)
+		if (s < m_scanAnchor.size()) m_scanAnchor[s] = static_cast<uint32_t>(m_nodeInFirstFrame.size() - 1);
+	m_pendingAnchors.clear();
+}
 
 void FrameHistory::addScan(std::size_t keyframes)
 {

@@ -117,6 +117,7 @@ void PerfectMatchSlam::initialize(const mrpt::maps::CSimpleMap& initialMap, cons
 	m_noise.emplace(PM_params.sigma);
 	m_revised.clear();
 	m_revisedLater.clear();
+	m_lostPoses.clear();
 	m_smoother.reset();
 	if (PM_options.odometrySmoothing)
 	{
@@ -275,23 +276,27 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	const bool standstillCheck = !odometryMoved && !m_mapEmpty && m_standstill->scansSayMoved(scan);
 	const bool moved = odometryMoved || standstillCheck;
 	std::optional<TrackingState> verdict;  // none: not matched
+	std::optional<ScanPoints> pts;	// none: not looked at
 	if (m_mapEmpty || moved || !mapUpdating())
 	{
-		const ScanPoints pts = scanToPoints(scan, PM_options.grid.scan);
+		pts = scanToPoints(scan, PM_options.grid.scan);
 		// D52: the σ of this lidar's noise, measured on the scans that go into the map (on a fixed
 		// map, on the scans matched).
-		if (!mapUpdating()) m_noise->add(scan.sensorLabel, pts.hits, {scan.sensorPose.x(), scan.sensorPose.y()});
+		if (!mapUpdating()) m_noise->add(scan.sensorLabel, pts->hits, {scan.sensorPose.x(), scan.sensorPose.y()});
 		m_matcher.options.sigma = m_noise->sigma(scan.sensorLabel);
-		if (!m_mapEmpty && (moved || !mapUpdating()) && pts.hits.size() >= PM_options.minPoints)
-			verdict = matchScan(scan, pts, motion, window, standstillCheck, r);
-		// A rejected match is not inserted either: its pose is only the odometry guess, and a scan
-		// at a wrong pose would corrupt the map for every later match. Nor is a scan the map
-		// already explains (the keyframe gate).
-		const bool rejected = !m_mapEmpty && !r.matched && !r.reanchored;
-		if (mapUpdating() && (m_mapEmpty || moved) && !pts.hits.empty() && !rejected &&
-			(m_mapEmpty || m_gate->admits(r.pose, r.info.inlierFraction)))
-			insertKeyframe(scan, pts, motion.time, r);
+		if (!m_mapEmpty && (moved || !mapUpdating()) && pts->hits.size() >= PM_options.minPoints)
+			verdict = matchScan(scan, *pts, motion, window, standstillCheck, r);
 	}
+	// Before an insertion, whose loop-closure sync may move the map's frame: the revised poses are
+	// in the frame the lost scans were reported in.
+	reviseLostStretch(verdict, r);
+	// A rejected match is not inserted either: its pose is only the odometry guess, and a scan at a
+	// wrong pose would corrupt the map for every later match. Nor is a scan the map already explains
+	// (the keyframe gate).
+	const bool rejected = !m_mapEmpty && !r.matched && !r.reanchored;
+	if (pts && mapUpdating() && (m_mapEmpty || moved) && !pts->hits.empty() && !rejected &&
+		(m_mapEmpty || m_gate->admits(r.pose, r.info.inlierFraction)))
+		insertKeyframe(scan, *pts, motion.time, r);
 	m_tracker->update(verdict, r.relocalized, r.inserted, motion.time);
 	if (r.matched) m_motion->matched(r.pose, motion.time);
 	// While look-alike rivals are undecided the scan is reported at the leader's pose, but the search
@@ -302,6 +307,29 @@ const PerfectMatchSlam::ScanResult& PerfectMatchSlam::processScan(
 	if (m_smoother) m_smoother->add(m_scans - 1, m_frames.toFirst(r.pose), r.odometry);
 	m_last = r;
 	return m_last;
+}
+
+void PerfectMatchSlam::reviseLostStretch(const std::optional<TrackingState>& verdict, const ScanResult& r)
+{
+	// While lost a scan is reported where the odometry predicts it, and across the loss (a drop-out, a
+	// gap, a slip) that prediction carries one error, which the match ending the loss measures: the
+	// same odometry chain, moved by it, is where those scans were. A scan inserted on new ground is in
+	// the map where it was reported and stays; look-alike rivals' scans get the winner's path instead.
+	if (verdict == TrackingState::Tracking)
+	{
+		const mrpt::poses::CPose2D error = mrpt::poses::CPose2D(r.pose) + (-mrpt::poses::CPose2D(r.predicted));
+		for (const auto& [i, p] : m_lostPoses)
+		{
+			m_revised.emplace_back(i, (error + mrpt::poses::CPose2D(p)).asTPose());
+			// Placed by this scan's match: they move with the graph as the keyframes after the loss do.
+			if (m_loops) m_frames.anchorToNextKeyframe(i);
+		}
+		m_lostPoses.clear();
+	}
+	else if (!r.undecided && (verdict == TrackingState::Lost || (!verdict && m_tracker->lost())))
+		m_lostPoses.emplace_back(m_scans - 1, r.pose);
+	else
+		m_lostPoses.clear();
 }
 
 Hypothesis PerfectMatchSlam::searchOrFollowRivals(const ScanPoints& pts, const ScanResult& r, const SearchWindow& window)

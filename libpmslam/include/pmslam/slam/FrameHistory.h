@@ -34,6 +34,9 @@ class FrameHistory
 	void addKeyframe(const mrpt::math::TPose2D& pose);
 	/** The next scan was tracked in the current frame; `keyframes` handed to the back-end so far. */
 	void addScan(std::size_t keyframes);
+	/** Scan `scan` moves with the next keyframe instead of its latest: a scan placed afterwards by
+	 * what that keyframe's scan measured (a lost stretch revised, D57). */
+	void anchorToNextKeyframe(std::size_t scan) { m_pendingAnchors.push_back(scan); }
 
 	/** `online` (each scan's pose as reported, scan order) with each scan moved with its keyframe
 	 * to where `loops`' graph has it. */
@@ -45,6 +48,7 @@ class FrameHistory
 	std::vector<mrpt::poses::CPose2D> m_frames{mrpt::poses::CPose2D()};	 // every m_frame so far, first = identity
 	std::vector<uint32_t> m_scanFrame, m_scanAnchor;  // per scan: index into m_frames, latest keyframe
 	std::vector<mrpt::math::TPose2D> m_nodeInFirstFrame;  // per keyframe
+	std::vector<std::size_t> m_pendingAnchors;	// scans to anchor to the next keyframe
 };
 
 }  // namespace pmslam

@@ -292,6 +292,8 @@ class PerfectMatchSlam
 	std::optional<Rivals> m_rivals;	// look-alike poses of a lidar alone after a gap, until the scans decide
 	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> m_revised;	 // the winner's poses of undecided scans
 	std::map<std::size_t, mrpt::math::TPose2D> m_revisedLater;	// ... replacing the smoother's, still to come
+	// Scans reported at the prediction while lost, since the last accepted match or insertion (D57).
+	std::vector<std::pair<std::size_t, mrpt::math::TPose2D>> m_lostPoses;
 	std::optional<OdometrySmoother> m_smoother;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  // current estimate
 	bool m_mapEmpty = true;
@@ -311,6 +313,9 @@ class PerfectMatchSlam
 	MotionPrediction predict(const mrpt::obs::CObservation2DRangeScan& scan,
 							 const std::optional<mrpt::math::TPose2D>& odometryAtScan);
 	bool crossesWalls(const ScanPoints& pts, const mrpt::math::TPose2D& pose) const;
+	/** D57: the scans reported at the prediction while lost, moved by the error of that prediction
+	 * that the match ending the loss measured (into m_revised). */
+	void reviseLostStretch(const std::optional<TrackingState>& verdict, const ScanResult& r);
 	template <class F>
 	void forEachKeyframeScan(const mrpt::maps::CSimpleMap& keyframes, OccupancyDistanceGridMap& grid, F&& f) const;
 	void keepInitialKeyframes(const mrpt::maps::CSimpleMap& keyframes);
