@@ -48,7 +48,7 @@ std::vector<config::Key<M>> makeKeys()
 						 [](auto& o) -> auto& { return o.minPoints; }),
 		config::number<M>("minOverlapGoodness", "", fraction, Level::Expert,
 						  "Accept a mostly-new-ground match when its minPoints+ points overlapping the map score at "
-						  "least this (0 = off) (D13).",
+						  "least this (0 = off) (D13); after a logging gap, no match whose overlap scores less (D56).",
 						  [](auto& o) -> auto& { return o.minOverlapGoodness; }),
 		config::number<M>("degenerateBelow", "", {0, 1, false, true}, Level::Expert,
 						  "A direction whose information is below this share of the largest is left to odometry "
