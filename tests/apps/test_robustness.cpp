@@ -8,6 +8,7 @@
 #include <pmslam/io/Trajectory.h>
 #include <pmslam/slam/Tracker.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <regex>
@@ -63,6 +64,35 @@ double maxError(const pmslam::Trajectory& traj, const std::vector<TPose2D>& trut
 	double m = 0;
 	for (std::size_t k = 0; k < std::min(traj.size(), truth.size()); ++k) m = std::max(m, errorAt(traj, truth, k));
 	return m;
+}
+
+const fs::path kDatasets = PMSLAM_SOURCE_DIR "/../shared/datasets";
+
+/** Benchmark log `name`'s Carmen file in ../shared/datasets (absent there: the tests that need it skip). */
+fs::path benchmarkLog(const std::string& name) { return kDatasets / name / (name + ".clf"); }
+
+/** One run of bench/robustness.sh: `fault` (pm-fault-inject's arguments, the seed included) injected into
+ * benchmark log `name`, mapped with the defaults (exit 0 expected), scored on the log's relations and
+ * printed as `label`. */
+pmslam::RelativePoseErrors mapFaultedBenchmarkLog(const std::string& name, const std::string& fault,
+												  const std::string& scratch, const std::string& label)
+{
+	ScratchDir d(scratch);
+	const std::string faulted = d.path("faulted.clf");
+	const auto inject = run(quote(kInject) + " " + fault + " " + quote(benchmarkLog(name).string()) + " " + quote(faulted));
+	EXPECT_EQ(inject.exitCode, 0) << inject.output;
+	if (inject.exitCode != 0)
+	{
+		pmslam::RelativePoseErrors none;
+		none.transMean = none.rotMeanDeg = std::nan("");  // fails every bound the tests set
+		return none;
+	}
+	const auto a = mapLog(d, faulted, "defaults");
+	EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
+	const auto rel = pmslam::loadRelations((kDatasets / name / (name + ".relations")).string());
+	const auto err = pmslam::evaluateRelativePoses(a.traj, rel);
+	std::cout << label << ": " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
+	return err;
 }
 
 /** Longest run of consecutive scans with tracking state 3 (match rejected) in timing.txt. */
@@ -490,19 +520,10 @@ TEST(Robustness, AfterALoggingGapOnNewGroundTheMapGrowsAgain)
 // re-localisation goes there and nothing brings it back (1.8 m).
 TEST(Robustness, AmbiguousReLocalisationAfterAGapWaitsForTheRightPlace)
 {
-	const fs::path datasets = PMSLAM_SOURCE_DIR "/../shared/datasets";
-	const fs::path clf = datasets / "fr079" / "fr079.clf";
+	const fs::path clf = benchmarkLog("fr079");
 	if (!fs::exists(clf)) GTEST_SKIP() << clf << " absent: the benchmark logs live in ../shared/datasets beside the project";
-	ScratchDir d("benchmark-fault");
-	const std::string faulted = d.path("faulted.clf");
-	const auto inject =
-		run(quote(kInject) + " --fault gap --count 2 --seconds 60 --seed 2 " + quote(clf.string()) + " " + quote(faulted));
-	ASSERT_EQ(inject.exitCode, 0) << inject.output;
-	const auto a = mapLog(d, faulted, "defaults");
-	EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
-	const auto rel = pmslam::loadRelations((datasets / "fr079" / "fr079.relations").string());
-	const auto err = pmslam::evaluateRelativePoses(a.traj, rel);
-	std::cout << "fr079 gap-b seed 2: " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
+	const auto err =
+		mapFaultedBenchmarkLog("fr079", "--fault gap --count 2 --seconds 60 --seed 2", "benchmark-fault", "fr079 gap-b seed 2");
 	EXPECT_LT(err.transMean, 0.05);	 // 1.5x the clean log's target (a failure is metres)
 }
 
@@ -515,19 +536,10 @@ TEST(Robustness, AmbiguousReLocalisationAfterAGapWaitsForTheRightPlace)
 // right place is found first.
 TEST(Robustness, AfterALongDropOutTheWindowGrowsFromTheFirstRejectionNotFromTheLastMatch)
 {
-	const fs::path datasets = PMSLAM_SOURCE_DIR "/../shared/datasets";
-	const fs::path clf = datasets / "intel" / "intel.clf";
+	const fs::path clf = benchmarkLog("intel");
 	if (!fs::exists(clf)) GTEST_SKIP() << clf << " absent: the benchmark logs live in ../shared/datasets beside the project";
-	ScratchDir d("benchmark-dropout");
-	const std::string faulted = d.path("faulted.clf");
-	const auto inject =
-		run(quote(kInject) + " --fault dropout --count 3 --scans 300 --seed 3 " + quote(clf.string()) + " " + quote(faulted));
-	ASSERT_EQ(inject.exitCode, 0) << inject.output;
-	const auto a = mapLog(d, faulted, "defaults");
-	EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
-	const auto rel = pmslam::loadRelations((datasets / "intel" / "intel.relations").string());
-	const auto err = pmslam::evaluateRelativePoses(a.traj, rel);
-	std::cout << "intel dropout-c seed 3: " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
+	const auto err = mapFaultedBenchmarkLog("intel", "--fault dropout --count 3 --scans 300 --seed 3", "benchmark-dropout",
+											"intel dropout-c seed 3");
 	EXPECT_LT(err.transMean, 0.03);	 // clean 0.0166; the failure is a metre
 }
 
@@ -627,18 +639,9 @@ TEST(Robustness, AfterALongGapTheWindowCoversWhatTheRobotCouldHaveDriven)
 // 0.156 m. Not taken after a gap (lost until a scan explains itself), the next scans find the robot.
 TEST(Robustness, AfterAGapAPoseTheMapContradictsIsNotTaken)
 {
-	const fs::path datasets = PMSLAM_SOURCE_DIR "/../shared/datasets";
-	const fs::path clf = datasets / "intel" / "intel.clf";
+	const fs::path clf = benchmarkLog("intel");
 	if (!fs::exists(clf)) GTEST_SKIP() << clf << " absent: the benchmark logs live in ../shared/datasets beside the project";
-	ScratchDir d("benchmark-gap-overlap");
-	const std::string faulted = d.path("faulted.clf");
-	const auto inject =
-		run(quote(kInject) + " --fault gap --count 3 --seconds 120 --seed 1 " + quote(clf.string()) + " " + quote(faulted));
-	ASSERT_EQ(inject.exitCode, 0) << inject.output;
-	const auto a = mapLog(d, faulted, "defaults");
-	EXPECT_EQ(a.result.exitCode, 0) << a.result.output;
-	const auto rel = pmslam::loadRelations((datasets / "intel" / "intel.relations").string());
-	const auto err = pmslam::evaluateRelativePoses(a.traj, rel);
-	std::cout << "intel gap-c seed 1: " << err.transMean << " m, " << err.rotMeanDeg << " deg\n";
+	const auto err = mapFaultedBenchmarkLog("intel", "--fault gap --count 3 --seconds 120 --seed 1", "benchmark-gap-overlap",
+											"intel gap-c seed 1");
 	EXPECT_LT(err.transMean, 0.025);	 // clean 0.0166; the failure is 0.156
 }

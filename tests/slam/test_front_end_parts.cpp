@@ -37,6 +37,16 @@ pmslam::PerfectMatchMatcher::MatchInfo match(double goodness)
 	m.nPoints = 100;
 	return m;
 }
+
+/** The Tracker's acceptance thresholds as MapBuilderOptions has them: D7's minGoodness, D13's overlap. */
+pmslam::TrackerOptions acceptance()
+{
+	pmslam::TrackerOptions o;
+	o.minGoodness = 0.3;
+	o.minOverlapGoodness = 0.6;
+	o.minPoints = 20;
+	return o;
+}
 }  // namespace
 
 TEST(MotionModel, PredictsTheEstimateMovedByTheOdometryIncrement)
@@ -106,10 +116,7 @@ TEST(MotionModel, ACopiedReadingIsMovedToTheScanTimeForTheSmootherOnly)
 
 TEST(Tracker, JudgesMatchesAndKeepsTheGaps)
 {
-	pmslam::TrackerOptions o;
-	o.minGoodness = 0.3;
-	o.minOverlapGoodness = 0.6;
-	o.minPoints = 20;
+	pmslam::TrackerOptions o = acceptance();
 	o.newGroundUnexplored = 0.8;
 	o.newGroundAfter = 2.0;
 	pmslam::Tracker t(o);
@@ -154,11 +161,7 @@ TEST(Tracker, JudgesMatchesAndKeepsTheGaps)
 
 TEST(Tracker, MostlyNewGroundIsAcceptedWhereTheOverlapAgrees)
 {
-	pmslam::TrackerOptions o;
-	o.minGoodness = 0.3;
-	o.minOverlapGoodness = 0.6;
-	o.minPoints = 20;
-	pmslam::Tracker t(o);
+	pmslam::Tracker t(acceptance());
 	auto m = match(0.2);
 	m.inlierGoodness = 0.8;
 	m.inlierFraction = 0.25;  // 25 of 100 points overlap the map, and agree
@@ -169,11 +172,7 @@ TEST(Tracker, MostlyNewGroundIsAcceptedWhereTheOverlapAgrees)
 
 TEST(Tracker, AfterAGapAMatchIsTakenOnlyWhereItsOverlapWithTheMapAgrees)
 {
-	pmslam::TrackerOptions o;
-	o.minGoodness = 0.3;
-	o.minOverlapGoodness = 0.6;
-	o.minPoints = 20;
-	pmslam::Tracker t(o);
+	pmslam::Tracker t(acceptance());
 	// intel, the first scan after a 120 s gap: 0.42 of the scan explained, its 79 % that overlaps the
 	// map agreeing only 0.53. Taken while tracking; after a gap, where the prediction is in doubt, not.
 	auto m = match(0.42);

@@ -88,7 +88,6 @@ BranchAndBoundSearch::Options globalSearchOptions() { return BranchAndBoundSearc
 // m: the lever arm at which a heading error counts as a displacement (what a turn moves at 5 m from the robot).
 constexpr double kDoubtLever = 5.0;
 
-
 // A loose information for a loop edge along directions the scan does not fix (a corridor):
 // 1 m and 30 degrees, enough to keep the matrix positive definite without pulling.
 const Eigen::Matrix3d kLoopFloor = Eigen::Vector3d(1.0, 1.0, 1.0 / std::pow(30.0 * M_PI / 180, 2)).asDiagonal();
