@@ -94,7 +94,7 @@ done
 awk '
   function med(list,   n, v, i, j, t) { n = split(list, v, " "); for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (v[j] + 0 < v[i] + 0) { t = v[i]; v[i] = v[j]; v[j] = t }
                                          return n % 2 ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2 }
-  function worst(list,   n, v, i, w) { n = split(list, v, " "); w = v[1]; for (i = 2; i <= n; i++) if (v[i] == "nan" || v[i] + 0 > w + 0) w = v[i]; return w }
+  function worst(list,   n, v, i, w) { n = split(list, v, " "); w = v[1]; for (i = 2; i <= n && w != "nan"; i++) if (v[i] == "nan" || v[i] + 0 > w + 0) w = v[i]; return w }
   FNR == 1 { side++ }
   { name = $1; err = $2; if (err == "nan") failed[side " " name] = 1
     n = split(name, p, "-")
