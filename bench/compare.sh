@@ -10,7 +10,10 @@
 # config/default.ini and the same options as bench/robustness.sh. DATASETS_DIR: default ../shared/datasets.
 # Environment: SEEDS (default "1 2 3 4 5"), LEVELS (default "a b c"), FAULTS (names, default all), LOGS (default
 # "intel aces fr079"), JOBS (runs side by side, default 2), ENV_A / ENV_B ("NAME=VALUE ..." set for that binary
-# only), CLEAN=0 to skip the clean runs.
+# only), CLEAN=0 to skip the clean runs, SIDES ("b": run build B only and compare it with the build/compare/a.txt an
+# earlier call left, made with the same SEEDS, LEVELS, FAULTS and LOGS; default "a b"), RUN_LIMIT (seconds one run may
+# take before it is stopped and counted as failed, default 900: a build whose search runs away on one log must not
+# hold up the comparison of the other 284 runs).
 # Writes build/compare/{a,b}/<run>/ (outputs) and build/compare/{a,b}.txt ("<run> <error m>" per line), and
 # prints: clean medians A -> B; per fault x log row worst and median A -> B where either crosses 1.15 x clean + 2 mm
 # or they differ by more than 2 mm; the number of runs over that line and the sums of errors. The faulted logs are
@@ -29,6 +32,8 @@ datasets="${3:-$repo/../shared/datasets}"
 datasets="$(cd "$datasets" && pwd)"
 seeds="${SEEDS:-1 2 3 4 5}"; levels="${LEVELS:-a b c}"; logs="${LOGS:-intel aces fr079}"; jobs="${JOBS:-2}"
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || die "JOBS='$jobs': expected a whole number"
+run_limit="${RUN_LIMIT:-900}"
+[[ "$run_limit" =~ ^[1-9][0-9]*$ ]] || die "RUN_LIMIT='$run_limit': expected a whole number of seconds"
 build="$repo/build"; work="$build/compare"; tools="$build/bin"
 cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j2 --target pm-fault-inject pm-slam-eval >/dev/null
@@ -70,7 +75,7 @@ one() {
   out="$work/$side/$name"; mkdir -p "$out"
   local opts=(); [ "$opt" = - ] || opts=(--set "$opt")
   # shellcheck disable=SC2086
-  if env $envs "$bin" --config "$config" "${opts[@]}" --no-progress --max-untracked 1e9 "$log" --out "$out" \
+  if timeout "$run_limit" env $envs "$bin" --config "$config" "${opts[@]}" --no-progress --max-untracked 1e9 "$log" --out "$out" \
        >"$out/stdout.txt" 2>"$out/stderr.txt" &&
      "$tools/pm-slam-eval" --json "$out/trajectory.txt" "$datasets/$d/$d.relations" >"$out/eval.json" 2>/dev/null; then
     err=$(tr ',{}' '\n\n\n' <"$out/eval.json" | awk -F: '/"trans_mean_m"/ {gsub(/ /,"",$2); print $2}')
@@ -81,8 +86,10 @@ one() {
   echo "$name $err"
 }
 export -f one
-export work config datasets tools
-for side in a b; do
+export work config datasets tools run_limit
+sides="${SIDES:-a b}"
+[[ " $sides " == *" a "* ]] || [ -s "$work/a.txt" ] || die "SIDES='$sides' without a: no $work/a.txt from an earlier call"
+for side in $sides; do
   if [ $side = a ]; then bin=$bin_a; envs="${ENV_A:-}"; else bin=$bin_b; envs="${ENV_B:-}"; fi
   note "build $side: $bin ${envs:+($envs)}"
   # xargs -d '\n' passes one line per call; the replacement string is one no line holds.
