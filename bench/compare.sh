@@ -10,10 +10,10 @@
 # config/default.ini and the same options as bench/robustness.sh. DATASETS_DIR: default ../shared/datasets.
 # Environment: SEEDS (default "1 2 3 4 5"), LEVELS (default "a b c"), FAULTS (names, default all), LOGS (default
 # "intel aces fr079"), JOBS (runs side by side, default 2), ENV_A / ENV_B ("NAME=VALUE ..." set for that binary
-# only), CLEAN=0 to skip the clean runs, SIDES ("b": run build B only and compare it with the build/compare/a.txt an
-# earlier call left, made with the same SEEDS, LEVELS, FAULTS and LOGS; default "a b"), RUN_LIMIT (seconds one run may
-# take before it is stopped and counted as failed, default 900: a build whose search runs away on one log must not
-# hold up the comparison of the other 284 runs).
+# only), CLEAN=0 to skip the clean runs, SIDES ("a": run build A only, keeping its runs; "b": run build B only and
+# compare it with the build/compare/a.txt an earlier call left, which must hold the same runs; default "a b"),
+# RUN_LIMIT (seconds one run may take before it is stopped and counted as failed, default 900: a build whose search
+# runs away on one log must not hold up the comparison of the other 284 runs).
 # Writes build/compare/{a,b}/<run>/ (outputs) and build/compare/{a,b}.txt ("<run> <error m>" per line), and
 # prints: clean medians A -> B; per fault x log row worst and median A -> B where either crosses 1.15 x clean + 2 mm
 # or they differ by more than 2 mm; the number of runs over that line and the sums of errors. The faulted logs are
@@ -88,7 +88,11 @@ one() {
 export -f one
 export work config datasets tools run_limit
 sides="${SIDES:-a b}"
-[[ " $sides " == *" a "* ]] || [ -s "$work/a.txt" ] || die "SIDES='$sides' without a: no $work/a.txt from an earlier call"
+for s in $sides; do [[ "$s" == a || "$s" == b ]] || die "SIDES='$sides': expected a, b or \"a b\""; done
+[ -n "${sides// /}" ] || die "SIDES is empty: expected a, b or \"a b\""
+# Build A not run now is compared as an earlier call left it: only if that call ran exactly these runs.
+[[ " $sides " == *" a "* ]] || cmp -s <(cut -d' ' -f1 "$work/a.txt" 2>/dev/null) <(cut -d'|' -f1 "$runs" | sort) ||
+  die "SIDES='$sides': $work/a.txt is missing or holds other runs than these SEEDS, LEVELS, FAULTS and LOGS"
 for side in $sides; do
   if [ $side = a ]; then bin=$bin_a; envs="${ENV_A:-}"; else bin=$bin_b; envs="${ENV_B:-}"; fi
   note "build $side: $bin ${envs:+($envs)}"
@@ -96,6 +100,8 @@ for side in $sides; do
   xargs -d '\n' -P "$jobs" -I@LINE@ bash -c 'one "$0" "$1" "$2" "$3"' "$side" "$bin" "$envs" @LINE@ <"$runs" \
     | sort >"$work/$side.txt"
 done
+
+if [[ " $sides " != *" b "* ]]; then note "build A's runs are in $work/a.txt: compare a build with them by SIDES=b"; exit 0; fi
 
 # --- comparison ---------------------------------------------------------------------------------------------------
 awk '
